@@ -1,0 +1,16 @@
+//! Run-time library of the wheel–rail contact toolkit (Pombo, Ambrósio &
+//! Silva; see `SPEC.md` at the project's root).
+//!
+//! Math modules take plain structs and return plain structs; only
+//! [`schema`] touches files (the HDF5 table schema, read and write, so the
+//! pre-processor's writer and the simulator's reader cannot drift apart).
+//!
+//! Units: SI throughout (m, s, kg, N, rad). Global frame Z up; track frame
+//! `t` tangent, `n` lateral pointing left, `b = t × n` up (SPEC §1).
+
+pub mod quadrature;
+pub mod schema;
+pub mod spline;
+pub mod track;
+
+pub use nalgebra::Vector3;

@@ -1,0 +1,117 @@
+//! Named-column 2-D datasets: write with `columns`/`units` attributes, read
+//! back by column name.
+
+use std::path::Path;
+
+use hdf5::types::VarLenUnicode;
+use ndarray::Array2;
+
+use super::SchemaError;
+
+fn hdf5_err(path: &Path, action: String) -> impl FnOnce(hdf5::Error) -> SchemaError + '_ {
+    move |source| SchemaError::Hdf5 {
+        path: path.to_path_buf(),
+        action,
+        source,
+    }
+}
+
+pub(super) fn to_vlu(s: &str) -> VarLenUnicode {
+    // VarLenUnicode refuses interior NULs only; strip them rather than fail.
+    s.replace('\0', "")
+        .parse()
+        .unwrap_or_else(|_| VarLenUnicode::new())
+}
+
+/// Write `rows` (row-major, `columns.len()` values each) as `group/name`.
+pub(super) fn write_table(
+    path: &Path,
+    group: &hdf5::Group,
+    name: &str,
+    columns: &[&str],
+    units: &[&str],
+    data: Vec<f64>,
+) -> Result<(), SchemaError> {
+    let k = columns.len();
+    let n = data.len() / k;
+    let what = format!("writing {}/{name}", group.name());
+    let arr = Array2::from_shape_vec((n, k), data).map_err(|e| SchemaError::Invalid {
+        path: path.to_path_buf(),
+        object: what.clone(),
+        rule: e.to_string(),
+    })?;
+    let ds = group
+        .new_dataset_builder()
+        .with_data(&arr)
+        .create(name)
+        .map_err(hdf5_err(path, what.clone()))?;
+    let cols: Vec<VarLenUnicode> = columns.iter().map(|c| to_vlu(c)).collect();
+    let unit: Vec<VarLenUnicode> = units.iter().map(|c| to_vlu(c)).collect();
+    ds.new_attr_builder()
+        .with_data(&cols)
+        .create("columns")
+        .map_err(hdf5_err(path, what.clone()))?;
+    ds.new_attr_builder()
+        .with_data(&unit)
+        .create("units")
+        .map_err(hdf5_err(path, what))?;
+    Ok(())
+}
+
+/// Read `dataset` and return, for each wanted column name, the column
+/// values, as rows of `N` values in the order of `wanted`.
+pub(super) fn read_table<const N: usize>(
+    path: &Path,
+    file: &hdf5::File,
+    dataset: &str,
+    wanted: &[&str; N],
+) -> Result<Vec<[f64; N]>, SchemaError> {
+    let ds = file.dataset(dataset).map_err(|_| SchemaError::Missing {
+        path: path.to_path_buf(),
+        what: format!("dataset {dataset}"),
+    })?;
+    let invalid = |rule: String| SchemaError::Invalid {
+        path: path.to_path_buf(),
+        object: dataset.to_string(),
+        rule,
+    };
+    let names: Vec<VarLenUnicode> = ds
+        .attr("columns")
+        .map_err(|_| SchemaError::Missing {
+            path: path.to_path_buf(),
+            what: format!("attribute 'columns' of {dataset}"),
+        })?
+        .read_raw()
+        .map_err(hdf5_err(path, format!("reading the columns of {dataset}")))?;
+    let names: Vec<String> = names.iter().map(|n| n.as_str().to_string()).collect();
+    let shape = ds.shape();
+    if shape.len() != 2 || shape[1] != names.len() {
+        return Err(invalid(format!(
+            "shape {shape:?} does not match its {} named columns",
+            names.len()
+        )));
+    }
+    let mut index = [0usize; N];
+    for (slot, want) in index.iter_mut().zip(wanted) {
+        *slot = names.iter().position(|n| n == want).ok_or_else(|| {
+            invalid(format!(
+                "no column named '{want}' (has: {})",
+                names.join(" ")
+            ))
+        })?;
+    }
+    let data: Array2<f64> = ds
+        .read_2d()
+        .map_err(hdf5_err(path, format!("reading {dataset}")))?;
+    Ok(data
+        .rows()
+        .into_iter()
+        .map(|row| {
+            let mut out = [0.0; N];
+            for (o, &c) in out.iter_mut().zip(&index) {
+                *o = row[c];
+            }
+            out
+        })
+        .collect())
+}

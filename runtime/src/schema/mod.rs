@@ -1,0 +1,85 @@
+//! The HDF5 table-file schema (SPEC §4): the one place that reads and writes
+//! table files, so the pre-processor's writer and the run-time reader cannot
+//! drift apart.
+//!
+//! Layout of schema version 1:
+//!
+//! ```text
+//! /                         attributes: schema_version (u32), tool, tool_version,
+//!                           scheme, step_m, gauge_m, rail_spacing_m, cant_base_m,
+//!                           rail_inclination, rail_inclination_rad, length_m
+//! /centerline/database      N×23 f64, attributes `columns`, `units`
+//! /left_rail/database       M×13 f64 (L x y z tx ty tz nx ny nz bx by bz)
+//! /right_rail/database      K×13 f64
+//! /input/command_line       string
+//! /input/<role>             string: the input file's text, attribute `path`
+//! ```
+//!
+//! Every table is a 2-D `f64` dataset whose `columns` attribute names its
+//! columns and whose `units` attribute gives each column's unit ("1" for
+//! dimensionless). Readers look columns up by name, so columns may be added
+//! in later versions without breaking old readers; anything that changes the
+//! meaning of an existing column bumps [`SCHEMA_VERSION`].
+//!
+//! Files are written atomically: to a hidden temporary name in the target
+//! directory, renamed into place only when complete ([`AtomicFile`]).
+
+mod atomic;
+mod columns;
+mod track;
+
+pub use atomic::AtomicFile;
+pub use track::{TableFileWriter, read_provenance, read_track, write_track_file};
+
+use std::path::PathBuf;
+
+use crate::track::TrackError;
+
+/// Version of the table-file layout this build writes and reads.
+pub const SCHEMA_VERSION: u32 = 1;
+
+/// Errors reading or writing a table file. Every variant names the file.
+#[derive(Debug, thiserror::Error)]
+pub enum SchemaError {
+    #[error("cannot open '{path}' as an HDF5 table file: {source}")]
+    Open {
+        path: PathBuf,
+        #[source]
+        source: hdf5::Error,
+    },
+    #[error(
+        "'{path}' has table schema version {found}, which this build does not read (it reads version {supported}); rebuild the tables with this version of track-preproc"
+    )]
+    UnsupportedVersion {
+        path: PathBuf,
+        found: u32,
+        supported: u32,
+    },
+    #[error("'{path}' is not a table file of this toolkit: {what} is missing")]
+    Missing { path: PathBuf, what: String },
+    #[error("'{path}', {object}: {rule}")]
+    Invalid {
+        path: PathBuf,
+        object: String,
+        rule: String,
+    },
+    #[error("'{path}': HDF5 error while {action}: {source}")]
+    Hdf5 {
+        path: PathBuf,
+        action: String,
+        #[source]
+        source: hdf5::Error,
+    },
+    #[error("'{path}': {source}")]
+    Table {
+        path: PathBuf,
+        #[source]
+        source: TrackError,
+    },
+    #[error("cannot write '{path}': {source}")]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+}

@@ -1,0 +1,226 @@
+//! One rail's database (paper Fig. 1, SPEC §3g): rows at a uniform step of
+//! the rail's own arc length `L`, with the position of the rail's profile
+//! origin and its frame `(t, n, b)` (cant and rail inclination included).
+//! Looked up by linear interpolation in O(1) (paper §2g).
+
+use nalgebra::Vector3;
+
+use super::grid::UniformGrid;
+use super::{Frame, Side, TrackError};
+
+/// Column names of a rail database, in file order (SPEC §3g).
+pub const RAIL_COLUMNS: [&str; 13] = [
+    "L", "x", "y", "z", "tx", "ty", "tz", "nx", "ny", "nz", "bx", "by", "bz",
+];
+/// Units of [`RAIL_COLUMNS`] ("1" = dimensionless).
+pub const RAIL_UNITS: [&str; 13] = [
+    "m", "m", "m", "m", "1", "1", "1", "1", "1", "1", "1", "1", "1",
+];
+
+/// One row of a rail database.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct RailRow {
+    /// Arc length along this rail from its start (m).
+    pub l_m: f64,
+    /// Global position of the rail profile origin (m).
+    pub position: [f64; 3],
+    /// Unit tangent.
+    pub t: [f64; 3],
+    /// Unit lateral vector (pointing left, rolled by cant ± inclination).
+    pub n: [f64; 3],
+    /// Unit normal `t × n` (up-ish).
+    pub b: [f64; 3],
+}
+
+impl RailRow {
+    /// The row as the 13 values of [`RAIL_COLUMNS`].
+    pub fn to_columns(&self) -> [f64; 13] {
+        let p = self.position;
+        let (t, n, b) = (self.t, self.n, self.b);
+        [
+            self.l_m, p[0], p[1], p[2], t[0], t[1], t[2], n[0], n[1], n[2], b[0], b[1], b[2],
+        ]
+    }
+
+    /// A row from the 13 values of [`RAIL_COLUMNS`].
+    pub fn from_columns(c: &[f64; 13]) -> Self {
+        RailRow {
+            l_m: c[0],
+            position: [c[1], c[2], c[3]],
+            t: [c[4], c[5], c[6]],
+            n: [c[7], c[8], c[9]],
+            b: [c[10], c[11], c[12]],
+        }
+    }
+}
+
+/// Interpolated rail point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RailPoint {
+    /// Rail arc length (m).
+    pub l_m: f64,
+    /// Position of the profile origin (m).
+    pub position: Vector3<f64>,
+    /// Frame, interpolated component-wise: not re-normalised, its vectors are
+    /// unit to within (Δθ)²/8, Δθ the frame's rotation over one table step
+    /// (1.4e-8 for a 0.1 m step on a 300 m curve).
+    pub frame: Frame,
+}
+
+/// A rail database held in memory.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RailTable {
+    side: Side,
+    rows: Vec<RailRow>,
+    grid: UniformGrid,
+}
+
+impl RailTable {
+    /// Wrap rows, checking that `L` is finite, starts the table, and is
+    /// uniformly spaced (the last interval may be shorter).
+    pub fn new(side: Side, rows: Vec<RailRow>) -> Result<Self, TrackError> {
+        let table = side.rail_name();
+        if rows.len() < 2 {
+            return Err(TrackError::InvalidTable {
+                table,
+                row: rows.len(),
+                rule: "a rail table needs at least 2 rows".into(),
+            });
+        }
+        for (row, r) in rows.iter().enumerate() {
+            if r.to_columns().iter().any(|v| !v.is_finite()) {
+                return Err(TrackError::InvalidTable {
+                    table,
+                    row,
+                    rule: "non-finite value".into(),
+                });
+            }
+        }
+        let grid = UniformGrid::detect(|k| rows[k].l_m, rows.len()).map_err(|row| {
+            TrackError::InvalidTable {
+                table,
+                row,
+                rule: "L must increase in uniform steps (the last step may be shorter)".into(),
+            }
+        })?;
+        Ok(Self { side, rows, grid })
+    }
+
+    /// Which rail this is.
+    pub fn side(&self) -> Side {
+        self.side
+    }
+
+    /// The rows.
+    pub fn rows(&self) -> &[RailRow] {
+        &self.rows
+    }
+
+    /// Table step in L (m).
+    pub fn step_m(&self) -> f64 {
+        self.grid.step()
+    }
+
+    /// Range of L covered: `(first, last)` (m).
+    pub fn range_m(&self) -> (f64, f64) {
+        (self.rows[0].l_m, self.rows[self.rows.len() - 1].l_m)
+    }
+
+    /// Position and frame at arc length `l_m` by linear interpolation between
+    /// the two neighbouring rows (paper §2g). O(1).
+    ///
+    /// Errors with [`TrackError::OutOfRange`] outside the table (a tolerance
+    /// of 1e-9 m is allowed at both ends).
+    #[inline]
+    pub fn at(&self, l_m: f64) -> Result<RailPoint, TrackError> {
+        let (lo, hi) = self.range_m();
+        if !(l_m >= lo - 1e-9 && l_m <= hi + 1e-9) {
+            return Err(TrackError::OutOfRange {
+                table: self.side.rail_name(),
+                coordinate: "L",
+                value_m: l_m,
+                min_m: lo,
+                max_m: hi,
+            });
+        }
+        let i = self.grid.interval(l_m, |k| self.rows[k].l_m);
+        let (r0, r1) = (&self.rows[i], &self.rows[i + 1]);
+        let f = (l_m - r0.l_m) / (r1.l_m - r0.l_m);
+        let lerp = |a: &[f64; 3], b: &[f64; 3]| {
+            Vector3::new(
+                a[0] + f * (b[0] - a[0]),
+                a[1] + f * (b[1] - a[1]),
+                a[2] + f * (b[2] - a[2]),
+            )
+        };
+        Ok(RailPoint {
+            l_m,
+            position: lerp(&r0.position, &r1.position),
+            frame: Frame {
+                t: lerp(&r0.t, &r1.t),
+                n: lerp(&r0.n, &r1.n),
+                b: lerp(&r0.b, &r1.b),
+            },
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn straight(step: f64, length: f64) -> RailTable {
+        let mut rows = Vec::new();
+        let mut k = 0;
+        loop {
+            let l = (k as f64 * step).min(length);
+            rows.push(RailRow {
+                l_m: l,
+                position: [l, 0.75, 0.0],
+                t: [1.0, 0.0, 0.0],
+                n: [0.0, 1.0, 0.0],
+                b: [0.0, 0.0, 1.0],
+            });
+            if l >= length {
+                break;
+            }
+            k += 1;
+        }
+        RailTable::new(Side::Left, rows).unwrap()
+    }
+
+    #[test]
+    fn interpolates_inside_and_at_the_short_last_interval() {
+        let t = straight(0.1, 10.05);
+        assert_eq!(t.rows().len(), 102);
+        for l in [0.0, 0.05, 3.333, 9.99, 10.02, 10.05] {
+            let p = t.at(l).unwrap();
+            assert!((p.position.x - l).abs() < 1e-12, "{l}");
+            assert_eq!(p.frame.n, Vector3::y());
+        }
+    }
+
+    #[test]
+    fn out_of_range_is_an_error() {
+        let t = straight(0.5, 3.0);
+        let e = t.at(3.1).unwrap_err();
+        assert!(matches!(e, TrackError::OutOfRange { .. }));
+        assert!(e.to_string().contains("left rail"), "{e}");
+        assert!(t.at(-0.2).is_err());
+        assert!(t.at(f64::NAN).is_err());
+    }
+
+    #[test]
+    fn non_uniform_rows_are_rejected() {
+        let mut rows: Vec<RailRow> = straight(1.0, 5.0).rows().to_vec();
+        rows[2].l_m += 0.3;
+        let e = RailTable::new(Side::Right, rows).unwrap_err();
+        assert!(matches!(e, TrackError::InvalidTable { row: 2, .. }), "{e}");
+    }
+
+    #[test]
+    fn columns_round_trip() {
+        let r = straight(1.0, 2.0).rows()[1];
+        assert_eq!(RailRow::from_columns(&r.to_columns()), r);
+    }
+}
