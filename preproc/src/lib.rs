@@ -1,1 +1,30 @@
+//! The track pre-processor of Pombo, Ambrósio & Silva (paper §2, Fig. 1;
+//! SPEC §2–4): CSV control points, cant and irregularity tables → a smooth
+//! centreline, two rails re-fitted by their own arc length, and dense
+//! per-rail databases written to HDF5 through [`runtime::schema`].
+//!
+//! Pipeline: [`inputs`] (CSV parsing and rules) → [`centerline`] (fit, arc
+//! length, cant, frame) → [`irregularity`] → [`rails`] (nodal points, re-fit,
+//! frames with cant and inclination) → [`model::TrackModel::tabulate`] →
+//! [`pipeline`] (files in, table file out).
 
+pub mod centerline;
+pub mod cli;
+pub mod config;
+pub mod csv;
+pub mod error;
+pub mod inputs;
+pub mod irregularity;
+pub mod model;
+pub mod pipeline;
+pub mod progress;
+pub mod rails;
+pub mod space_curve;
+pub mod summary;
+
+pub use config::{BuildConfig, Inclination, RailSpacing};
+pub use error::{BuildError, InputError};
+pub use model::{TrackInputs, TrackModel};
+pub use pipeline::{BuildRequest, build_tables, run_build};
+pub use progress::{NoProgress, Progress, ProgressSink};
+pub use summary::BuildSummary;

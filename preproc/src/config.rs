@@ -1,0 +1,209 @@
+//! Options of a track build, with their defaults and the rules they must
+//! keep ([`BuildConfig::validate`]).
+
+use std::fmt;
+use std::str::FromStr;
+
+use runtime::spline::Scheme;
+
+use crate::error::BuildError;
+
+/// Default table step Δs (m) (SPEC §3g).
+pub const DEFAULT_STEP_M: f64 = 0.1;
+/// Default track gauge (m): standard gauge.
+pub const DEFAULT_GAUGE_M: f64 = 1.435;
+/// Default lateral distance from a rail's profile origin (the rail head's
+/// centre line) to its gauge face at the gauge measuring height (m): half the
+/// 72 mm head width of UIC60/UIC54 rails. With 1435 mm gauge this gives a
+/// rail spacing of 1.507 m.
+pub const DEFAULT_GAUGE_FACE_OFFSET_M: f64 = 0.036;
+/// Distance between the rail contact points minus the gauge (m), used for
+/// the default cant base e0 = gauge + 0.065 (1.500 m for standard gauge,
+/// SPEC §1).
+pub const CANT_BASE_OVER_GAUGE_M: f64 = 0.065;
+
+/// How far apart the two rail space curves (the rails' profile origins) are.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum RailSpacing {
+    /// gauge + 2 × offset of the gauge face from the profile origin (m).
+    FromGauge { gauge_face_offset_m: f64 },
+    /// Given directly (m).
+    Explicit { spacing_m: f64 },
+}
+
+impl Default for RailSpacing {
+    fn default() -> Self {
+        RailSpacing::FromGauge {
+            gauge_face_offset_m: DEFAULT_GAUGE_FACE_OFFSET_M,
+        }
+    }
+}
+
+/// Rail inclination: the rail profiles are turned about the rail tangent
+/// towards the track centre by atan(1/n) for "1:n".
+#[derive(Debug, Clone, PartialEq)]
+pub struct Inclination {
+    /// As the user wrote it ("1:40", "0", …).
+    pub text: String,
+    /// Angle (rad), ≥ 0 towards the track centre.
+    pub angle_rad: f64,
+}
+
+impl Default for Inclination {
+    fn default() -> Self {
+        "1:40".parse().expect("valid default")
+    }
+}
+
+impl fmt::Display for Inclination {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.text)
+    }
+}
+
+impl FromStr for Inclination {
+    type Err = String;
+    /// Accepts `1:40`, `1/40` (a slope of one in forty), `0` (none) or a
+    /// plain slope such as `0.025`.
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let t = s.trim();
+        let bad = || format!("rail inclination '{s}' is not of the form 1:40, 1/40, 0 or a slope like 0.025");
+        let slope = if let Some((a, b)) = t.split_once([':', '/']) {
+            let a: f64 = a.trim().parse().map_err(|_| bad())?;
+            let b: f64 = b.trim().parse().map_err(|_| bad())?;
+            if !(a.is_finite() && b.is_finite()) || b <= 0.0 || a < 0.0 {
+                return Err(bad());
+            }
+            a / b
+        } else {
+            let v: f64 = t.parse().map_err(|_| bad())?;
+            if !v.is_finite() || v < 0.0 {
+                return Err(bad());
+            }
+            v
+        };
+        if slope > 0.2 {
+            return Err(format!(
+                "rail inclination '{s}' (slope {slope}) is steeper than 1:5; rails are inclined 1:20 or 1:40"
+            ));
+        }
+        Ok(Inclination {
+            text: t.to_string(),
+            angle_rad: slope.atan(),
+        })
+    }
+}
+
+/// Options of a track build.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BuildConfig {
+    /// Spline scheme for the centreline, the cant and the rails (SPEC §3a, f).
+    pub scheme: Scheme,
+    /// Table step Δs (m).
+    pub step_m: f64,
+    /// Nominal track gauge (m).
+    pub gauge_m: f64,
+    /// Distance between the rail space curves.
+    pub rail_spacing: RailSpacing,
+    /// Rail inclination towards the track centre.
+    pub inclination: Inclination,
+    /// Cant base e0 for cant heights (m); `None` = gauge + 0.065 m.
+    pub cant_base_m: Option<f64>,
+}
+
+impl Default for BuildConfig {
+    fn default() -> Self {
+        Self {
+            scheme: Scheme::Cubic,
+            step_m: DEFAULT_STEP_M,
+            gauge_m: DEFAULT_GAUGE_M,
+            rail_spacing: RailSpacing::default(),
+            inclination: Inclination::default(),
+            cant_base_m: None,
+        }
+    }
+}
+
+impl BuildConfig {
+    /// Lateral distance between the rail space curves (m).
+    pub fn rail_spacing_m(&self) -> f64 {
+        match self.rail_spacing {
+            RailSpacing::FromGauge {
+                gauge_face_offset_m,
+            } => self.gauge_m + 2.0 * gauge_face_offset_m,
+            RailSpacing::Explicit { spacing_m } => spacing_m,
+        }
+    }
+
+    /// Cant base e0 (m).
+    pub fn cant_base_m(&self) -> f64 {
+        self.cant_base_m
+            .unwrap_or(self.gauge_m + CANT_BASE_OVER_GAUGE_M)
+    }
+
+    /// Check every rule; the message names the option and the rule.
+    pub fn validate(&self) -> Result<(), BuildError> {
+        let fail = |m: String| Err(BuildError::Config(m));
+        if !(self.step_m.is_finite() && self.step_m >= 1e-4 && self.step_m <= 10.0) {
+            return fail(format!(
+                "--step {} m must lie in 0.0001 … 10 m",
+                self.step_m
+            ));
+        }
+        if !(self.gauge_m.is_finite() && (0.3..=3.0).contains(&self.gauge_m)) {
+            return fail(format!("--gauge {} m must lie in 0.3 … 3 m", self.gauge_m));
+        }
+        let sp = self.rail_spacing_m();
+        if !(sp.is_finite() && sp > 0.2 && sp < 4.0) {
+            return fail(format!("rail spacing {sp} m must lie in 0.2 … 4 m"));
+        }
+        if let RailSpacing::FromGauge {
+            gauge_face_offset_m,
+        } = self.rail_spacing
+            && !(gauge_face_offset_m.is_finite() && (0.0..0.2).contains(&gauge_face_offset_m))
+        {
+            return fail(format!(
+                "--gauge-face-offset {gauge_face_offset_m} m must lie in 0 … 0.2 m"
+            ));
+        }
+        let e0 = self.cant_base_m();
+        if !(e0.is_finite() && e0 > 0.2 && e0 < 4.0) {
+            return fail(format!("--cant-base {e0} m must lie in 0.2 … 4 m"));
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn inclination_forms() {
+        let b: Inclination = "1:40".parse().unwrap();
+        assert!((b.angle_rad - (1.0_f64 / 40.0).atan()).abs() < 1e-15);
+        assert_eq!("1/20".parse::<Inclination>().unwrap().angle_rad, (0.05_f64).atan());
+        assert_eq!("0".parse::<Inclination>().unwrap().angle_rad, 0.0);
+        assert!("1:0".parse::<Inclination>().is_err());
+        assert!("steep".parse::<Inclination>().is_err());
+        assert!("1:2".parse::<Inclination>().is_err());
+    }
+
+    #[test]
+    fn defaults_and_rules() {
+        let c = BuildConfig::default();
+        c.validate().unwrap();
+        assert!((c.rail_spacing_m() - 1.507).abs() < 1e-12);
+        assert!((c.cant_base_m() - 1.5).abs() < 1e-12);
+        let bad = BuildConfig {
+            step_m: 0.0,
+            ..Default::default()
+        };
+        assert!(bad.validate().unwrap_err().to_string().contains("--step"));
+        let bad = BuildConfig {
+            gauge_m: f64::NAN,
+            ..Default::default()
+        };
+        assert!(bad.validate().unwrap_err().to_string().contains("--gauge"));
+    }
+}

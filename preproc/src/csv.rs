@@ -1,0 +1,215 @@
+//! A small, strict reader for the numeric CSV files of SPEC §2: a header row,
+//! then rows of numbers separated by commas; blank lines and lines starting
+//! with `#` are ignored; spaces around fields are allowed. Every error names
+//! the file and the line.
+
+use std::path::{Path, PathBuf};
+
+use crate::error::InputError;
+
+/// A numeric table read from a CSV file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CsvTable {
+    /// The file as named by the user (for messages).
+    pub path: PathBuf,
+    /// Column names, trimmed and lower-cased, in file order.
+    pub columns: Vec<String>,
+    /// Data rows: (1-based line number, values in column order).
+    pub rows: Vec<(usize, Vec<f64>)>,
+}
+
+impl CsvTable {
+    /// Parse `text` (the content of `path`).
+    pub fn parse(path: &Path, text: &str) -> Result<Self, InputError> {
+        let err = |line: Option<usize>, rule: String| InputError::new(path, line, rule);
+        let mut lines = text
+            .lines()
+            .enumerate()
+            .map(|(i, l)| (i + 1, l.trim()))
+            .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
+
+        let (header_line, header) = lines
+            .next()
+            .ok_or_else(|| err(None, "the file is empty (expected a header row)".into()))?;
+        let columns: Vec<String> = header
+            .split(',')
+            .map(|c| c.trim().trim_matches('"').to_ascii_lowercase())
+            .collect();
+        for (i, c) in columns.iter().enumerate() {
+            if c.is_empty() {
+                return Err(err(
+                    Some(header_line),
+                    format!("header column {} has no name", i + 1),
+                ));
+            }
+            if c.parse::<f64>().is_ok() {
+                return Err(err(
+                    Some(header_line),
+                    format!("expected a header row naming the columns, found the number '{c}'"),
+                ));
+            }
+            if columns[..i].contains(c) {
+                return Err(err(Some(header_line), format!("column '{c}' appears twice")));
+            }
+        }
+
+        let mut rows = Vec::new();
+        for (line, l) in lines {
+            let fields: Vec<&str> = l.split(',').map(str::trim).collect();
+            if fields.len() != columns.len() {
+                return Err(err(
+                    Some(line),
+                    format!(
+                        "expected {} values ({}), found {}",
+                        columns.len(),
+                        columns.join(", "),
+                        fields.len()
+                    ),
+                ));
+            }
+            let mut values = Vec::with_capacity(fields.len());
+            for (f, c) in fields.iter().zip(&columns) {
+                let v: f64 = f.parse().map_err(|_| {
+                    err(Some(line), format!("column '{c}': '{f}' is not a number"))
+                })?;
+                if !v.is_finite() {
+                    return Err(err(
+                        Some(line),
+                        format!("column '{c}': non-finite value '{f}'"),
+                    ));
+                }
+                values.push(v);
+            }
+            rows.push((line, values));
+        }
+        Ok(Self {
+            path: path.to_path_buf(),
+            columns,
+            rows,
+        })
+    }
+
+    /// Index of column `name`, if present.
+    pub fn column(&self, name: &str) -> Option<usize> {
+        self.columns.iter().position(|c| c == name)
+    }
+
+    /// Values of column `idx`.
+    pub fn values(&self, idx: usize) -> Vec<f64> {
+        self.rows.iter().map(|(_, v)| v[idx]).collect()
+    }
+
+    /// Line number of data row `row` (0-based).
+    pub fn line(&self, row: usize) -> usize {
+        self.rows[row].0
+    }
+
+    /// An error located at data row `row` (0-based).
+    pub fn error_at(&self, row: usize, rule: impl Into<String>) -> InputError {
+        InputError::new(&self.path, Some(self.line(row)), rule)
+    }
+
+    /// An error about the whole file.
+    pub fn error(&self, rule: impl Into<String>) -> InputError {
+        InputError::new(&self.path, None, rule)
+    }
+
+    /// Require at least `min` data rows.
+    pub fn require_rows(&self, min: usize) -> Result<(), InputError> {
+        if self.rows.len() < min {
+            return Err(self.error(format!(
+                "at least {min} data rows are needed, found {}",
+                self.rows.len()
+            )));
+        }
+        Ok(())
+    }
+
+    /// Require that column `idx` strictly increases; names the first row
+    /// that does not.
+    pub fn require_increasing(&self, idx: usize) -> Result<(), InputError> {
+        for k in 1..self.rows.len() {
+            let (a, b) = (self.rows[k - 1].1[idx], self.rows[k].1[idx]);
+            if b <= a {
+                return Err(self.error_at(
+                    k,
+                    format!(
+                        "column '{}' must strictly increase: {b} follows {a} (line {})",
+                        self.columns[idx],
+                        self.line(k - 1)
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A value column that may carry a unit suffix: `name` in metres/radians or
+/// `name_mm` in millimetres. Returns the column index and the factor to SI.
+pub fn find_length_column(
+    table: &CsvTable,
+    name: &str,
+) -> Result<Option<(usize, f64)>, InputError> {
+    let plain = table.column(name);
+    let mm = table.column(&format!("{name}_mm"));
+    match (plain, mm) {
+        (Some(_), Some(_)) => Err(table.error(format!(
+            "columns '{name}' and '{name}_mm' both given; keep one"
+        ))),
+        (Some(i), None) => Ok(Some((i, 1.0))),
+        (None, Some(i)) => Ok(Some((i, 1e-3))),
+        (None, None) => Ok(None),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(text: &str) -> Result<CsvTable, InputError> {
+        CsvTable::parse(Path::new("t.csv"), text)
+    }
+
+    #[test]
+    fn reads_header_rows_comments_and_blanks() {
+        let t = parse("# a comment\nx, Y ,z\n\n1,2,3\n# mid\n 4 , 5 , 6 \n").unwrap();
+        assert_eq!(t.columns, ["x", "y", "z"]);
+        assert_eq!(t.rows, vec![(3, vec![1.0, 2.0, 3.0]), (6, vec![4.0, 5.0, 6.0])]);
+    }
+
+    #[test]
+    fn errors_name_file_line_and_rule() {
+        let e = parse("x,y,z\n1,2,3\n1,abc,3\n").unwrap_err();
+        assert_eq!(e.to_string(), "t.csv, line 3: column 'y': 'abc' is not a number");
+        let e = parse("x,y,z\n1,2\n").unwrap_err();
+        assert!(e.to_string().contains("line 2: expected 3 values"), "{e}");
+        let e = parse("x,y,z\n1,NaN,2\n").unwrap_err();
+        assert!(e.to_string().contains("non-finite"), "{e}");
+        let e = parse("x,y,z\n1,inf,2\n").unwrap_err();
+        assert!(e.to_string().contains("non-finite"), "{e}");
+        let e = parse("# only a comment\n").unwrap_err();
+        assert!(e.to_string().contains("empty"), "{e}");
+        let e = parse("1,2,3\n4,5,6\n").unwrap_err();
+        assert!(e.to_string().contains("header"), "{e}");
+        let e = parse("x,x\n1,2\n").unwrap_err();
+        assert!(e.to_string().contains("twice"), "{e}");
+    }
+
+    #[test]
+    fn increasing_and_row_count_rules() {
+        let t = parse("s,v\n0,1\n1,1\n1,2\n").unwrap();
+        let e = t.require_increasing(0).unwrap_err();
+        assert!(e.to_string().contains("line 4"), "{e}");
+        assert!(t.require_rows(4).is_err());
+        assert!(t.require_rows(3).is_ok());
+    }
+
+    #[test]
+    fn unit_suffix() {
+        let t = parse("s,cant_mm\n0,1\n").unwrap();
+        assert_eq!(find_length_column(&t, "cant").unwrap(), Some((1, 1e-3)));
+        let t = parse("s,cant,cant_mm\n0,1,2\n").unwrap();
+        assert!(find_length_column(&t, "cant").is_err());
+    }
+}

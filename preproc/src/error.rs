@@ -1,0 +1,71 @@
+//! Errors of the pre-processor. Every input error names the file, the line
+//! (1-based, as an editor shows it) where there is one, and the rule broken
+//! (SPEC §2).
+
+use std::fmt;
+use std::path::PathBuf;
+
+use runtime::spline::SplineError;
+
+/// Where in an input file a problem is.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Location {
+    /// The file as the user named it.
+    pub file: PathBuf,
+    /// 1-based line number in the file, when the problem is on one line.
+    pub line: Option<usize>,
+}
+
+impl fmt::Display for Location {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.line {
+            Some(line) => write!(f, "{}, line {line}", self.file.display()),
+            None => write!(f, "{}", self.file.display()),
+        }
+    }
+}
+
+/// A rule broken by an input file.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{location}: {rule}")]
+pub struct InputError {
+    pub location: Location,
+    pub rule: String,
+}
+
+impl InputError {
+    pub fn new(file: impl Into<PathBuf>, line: Option<usize>, rule: impl Into<String>) -> Self {
+        Self {
+            location: Location {
+                file: file.into(),
+                line,
+            },
+            rule: rule.into(),
+        }
+    }
+}
+
+/// A build that could not be completed.
+#[derive(Debug, thiserror::Error)]
+pub enum BuildError {
+    #[error(transparent)]
+    Input(#[from] InputError),
+    #[error("invalid build option: {0}")]
+    Config(String),
+    #[error("{what}: {source}")]
+    Spline {
+        what: String,
+        #[source]
+        source: SplineError,
+    },
+    #[error("{0}")]
+    Geometry(String),
+    #[error("cannot read '{path}': {source}")]
+    Read {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error(transparent)]
+    Write(#[from] runtime::schema::SchemaError),
+}

@@ -1,0 +1,225 @@
+//! The continuous track model — centreline, irregularities and both rails as
+//! splines — and its tabulation into the databases of paper Fig. 1.
+
+use rayon::prelude::*;
+use runtime::track::{
+    CenterlineRow, CenterlineTable, RailRow, RailTable, Side, TrackMeta, TrackTables,
+};
+
+use crate::centerline::Centerline;
+use crate::config::BuildConfig;
+use crate::error::BuildError;
+use crate::inputs::{CantInput, CenterlineInput, IrregularityInput};
+use crate::irregularity::Irregularities;
+use crate::progress::{Progress, ProgressSink};
+use crate::rails::{Rail, node_spacing_m};
+
+/// Rows computed per parallel task.
+const CHUNK_ROWS: usize = 1 << 15;
+
+/// The parsed inputs of a build.
+#[derive(Debug, Clone)]
+pub struct TrackInputs {
+    pub centerline: CenterlineInput,
+    pub cant: Option<CantInput>,
+    pub irregularities: Option<IrregularityInput>,
+}
+
+/// The track as continuous curves.
+#[derive(Debug, Clone)]
+pub struct TrackModel {
+    pub config: BuildConfig,
+    pub centerline: Centerline,
+    pub irregularities: Option<Irregularities>,
+    pub left: Rail,
+    pub right: Rail,
+}
+
+impl TrackModel {
+    /// Fit every curve of the track (paper §2a–f).
+    pub fn build(inputs: &TrackInputs, config: &BuildConfig) -> Result<Self, BuildError> {
+        config.validate()?;
+        let centerline = Centerline::build(
+            &inputs.centerline,
+            inputs.cant.as_ref(),
+            config.scheme,
+            config.cant_base_m(),
+        )?;
+        let irregularities = inputs
+            .irregularities
+            .as_ref()
+            .map(|i| Irregularities::build(i, centerline.length_m()))
+            .transpose()?;
+        let spacing = node_spacing_m(&centerline, irregularities.as_ref());
+        let rail = |side| {
+            Rail::build(
+                side,
+                &centerline,
+                irregularities.as_ref(),
+                config.rail_spacing_m(),
+                spacing,
+                config.scheme,
+                config.inclination.angle_rad,
+            )
+        };
+        let (left, right) = rayon::join(|| rail(Side::Left), || rail(Side::Right));
+        Ok(Self {
+            config: config.clone(),
+            centerline,
+            irregularities,
+            left: left?,
+            right: right?,
+        })
+    }
+
+    /// One rail.
+    pub fn rail(&self, side: Side) -> &Rail {
+        match side {
+            Side::Left => &self.left,
+            Side::Right => &self.right,
+        }
+    }
+
+    /// Sample the model every `config.step_m` into the centreline and rail
+    /// databases (in parallel chunks).
+    pub fn tabulate(&self, progress: &dyn ProgressSink) -> Result<TrackTables, BuildError> {
+        let step = self.config.step_m;
+        let s_grid = grid(self.centerline.length_m(), step);
+        progress.event(Progress::Stage {
+            name: "centerline",
+            rows: s_grid.len() as u64,
+        });
+        let rows: Vec<Vec<CenterlineRow>> = s_grid
+            .par_chunks(CHUNK_ROWS)
+            .map(|chunk| {
+                let rows = self.centerline_rows(chunk);
+                progress.event(Progress::Rows(chunk.len() as u64));
+                rows
+            })
+            .collect::<Result<_, _>>()?;
+        let centerline = CenterlineTable::new(rows.concat())
+            .map_err(|e| BuildError::Geometry(format!("centreline table: {e}")))?;
+
+        let mut rails = Vec::with_capacity(2);
+        for side in Side::BOTH {
+            let rail = self.rail(side);
+            let l_grid = grid(rail.length_m(), step);
+            progress.event(Progress::Stage {
+                name: side.rail_name(),
+                rows: l_grid.len() as u64,
+            });
+            let rows: Vec<Vec<RailRow>> = l_grid
+                .par_chunks(CHUNK_ROWS)
+                .map(|chunk| {
+                    let rows = rail.sample(chunk, &self.centerline).map(|samples| {
+                        samples
+                            .iter()
+                            .map(|r| RailRow {
+                                l_m: r.l_m,
+                                position: r.point.r.into(),
+                                t: r.frame.t.into(),
+                                n: r.frame.n.into(),
+                                b: r.frame.b.into(),
+                            })
+                            .collect()
+                    });
+                    progress.event(Progress::Rows(chunk.len() as u64));
+                    rows
+                })
+                .collect::<Result<_, _>>()?;
+            rails.push(
+                RailTable::new(side, rows.concat())
+                    .map_err(|e| BuildError::Geometry(format!("{} table: {e}", side.rail_name())))?,
+            );
+        }
+        let right = rails.pop().expect("two rails");
+        let left = rails.pop().expect("two rails");
+        Ok(TrackTables {
+            meta: self.meta(),
+            centerline,
+            left,
+            right,
+        })
+    }
+
+    fn centerline_rows(&self, s: &[f64]) -> Result<Vec<CenterlineRow>, BuildError> {
+        Ok(self
+            .centerline
+            .sample(s)?
+            .iter()
+            .map(|c| {
+                let d = self
+                    .irregularities
+                    .as_ref()
+                    .map(|i| i.at(c.s_m))
+                    .unwrap_or_default();
+                CenterlineRow {
+                    s_m: c.s_m,
+                    position: c.point.r.into(),
+                    t: c.frame.t.into(),
+                    n: c.frame.n.into(),
+                    b: c.frame.b.into(),
+                    cant_rad: c.cant_rad,
+                    curvature_1_m: c.point.curvature(),
+                    horizontal_curvature_1_m: c.point.horizontal_curvature(),
+                    torsion_1_m: c.point.torsion(),
+                    l_left_m: self.left.l_at_s(c.s_m),
+                    l_right_m: self.right.l_at_s(c.s_m),
+                    align_left_m: d.align_left_m,
+                    align_right_m: d.align_right_m,
+                    level_left_m: d.level_left_m,
+                    level_right_m: d.level_right_m,
+                }
+            })
+            .collect())
+    }
+
+    fn meta(&self) -> TrackMeta {
+        let c = &self.config;
+        TrackMeta {
+            scheme: c.scheme.name().to_string(),
+            step_m: c.step_m,
+            gauge_m: c.gauge_m,
+            rail_spacing_m: c.rail_spacing_m(),
+            cant_base_m: c.cant_base_m(),
+            rail_inclination: c.inclination.text.clone(),
+            rail_inclination_rad: c.inclination.angle_rad,
+            tool: "track-preproc".into(),
+            tool_version: env!("CARGO_PKG_VERSION").into(),
+        }
+    }
+}
+
+/// Table abscissae 0, h, 2h, … and the end `length` itself (the last
+/// interval may be shorter; a remainder below 1e-6·h is merged).
+pub fn grid(length: f64, step: f64) -> Vec<f64> {
+    let n = (length / step).floor() as usize;
+    let mut g: Vec<f64> = (0..=n).map(|k| k as f64 * step).collect();
+    let last = g[g.len() - 1];
+    if length - last > 1e-6 * step {
+        g.push(length);
+    } else {
+        let k = g.len() - 1;
+        g[k] = length;
+        if k == 0 {
+            g.push(length);
+        }
+    }
+    g
+}
+
+#[cfg(test)]
+mod tests {
+    use super::grid;
+
+    #[test]
+    fn grid_ends_at_the_length() {
+        assert_eq!(grid(1.0, 0.25), vec![0.0, 0.25, 0.5, 0.75, 1.0]);
+        let g = grid(1.1, 0.25);
+        assert_eq!(g.len(), 6);
+        assert_eq!(*g.last().unwrap(), 1.1);
+        let g = grid(1.0 + 1e-9, 0.25);
+        assert_eq!(g.len(), 5);
+        assert_eq!(*g.last().unwrap(), 1.0 + 1e-9);
+    }
+}
