@@ -1,1 +1,5 @@
+//! The `sim` application: scenes, runs, outputs, plots and sweeps on top of
+//! the `runtime` library and the `preproc` pre-processor.
 
+pub mod cli;
+pub mod probe;

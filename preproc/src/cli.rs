@@ -168,9 +168,8 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Build(args) => {
             let req = args.to_request(command_line())?;
             let sink = BarSink::new();
-            let summary = run_build(&req, &sink).with_context(|| {
-                format!("building {} failed", req.output.display())
-            })?;
+            let summary = run_build(&req, &sink)
+                .with_context(|| format!("building {} failed", req.output.display()))?;
             sink.event(Progress::Done);
             if args.json {
                 println!("{}", serde_json::to_string_pretty(&summary)?);

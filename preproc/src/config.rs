@@ -67,7 +67,9 @@ impl FromStr for Inclination {
     /// plain slope such as `0.025`.
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         let t = s.trim();
-        let bad = || format!("rail inclination '{s}' is not of the form 1:40, 1/40, 0 or a slope like 0.025");
+        let bad = || {
+            format!("rail inclination '{s}' is not of the form 1:40, 1/40, 0 or a slope like 0.025")
+        };
         let slope = if let Some((a, b)) = t.split_once([':', '/']) {
             let a: f64 = a.trim().parse().map_err(|_| bad())?;
             let b: f64 = b.trim().parse().map_err(|_| bad())?;
@@ -182,7 +184,10 @@ mod tests {
     fn inclination_forms() {
         let b: Inclination = "1:40".parse().unwrap();
         assert!((b.angle_rad - (1.0_f64 / 40.0).atan()).abs() < 1e-15);
-        assert_eq!("1/20".parse::<Inclination>().unwrap().angle_rad, (0.05_f64).atan());
+        assert_eq!(
+            "1/20".parse::<Inclination>().unwrap().angle_rad,
+            (0.05_f64).atan()
+        );
         assert_eq!("0".parse::<Inclination>().unwrap().angle_rad, 0.0);
         assert!("1:0".parse::<Inclination>().is_err());
         assert!("steep".parse::<Inclination>().is_err());

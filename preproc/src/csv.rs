@@ -49,7 +49,10 @@ impl CsvTable {
                 ));
             }
             if columns[..i].contains(c) {
-                return Err(err(Some(header_line), format!("column '{c}' appears twice")));
+                return Err(err(
+                    Some(header_line),
+                    format!("column '{c}' appears twice"),
+                ));
             }
         }
 
@@ -69,9 +72,9 @@ impl CsvTable {
             }
             let mut values = Vec::with_capacity(fields.len());
             for (f, c) in fields.iter().zip(&columns) {
-                let v: f64 = f.parse().map_err(|_| {
-                    err(Some(line), format!("column '{c}': '{f}' is not a number"))
-                })?;
+                let v: f64 = f
+                    .parse()
+                    .map_err(|_| err(Some(line), format!("column '{c}': '{f}' is not a number")))?;
                 if !v.is_finite() {
                     return Err(err(
                         Some(line),
@@ -175,13 +178,19 @@ mod tests {
     fn reads_header_rows_comments_and_blanks() {
         let t = parse("# a comment\nx, Y ,z\n\n1,2,3\n# mid\n 4 , 5 , 6 \n").unwrap();
         assert_eq!(t.columns, ["x", "y", "z"]);
-        assert_eq!(t.rows, vec![(3, vec![1.0, 2.0, 3.0]), (6, vec![4.0, 5.0, 6.0])]);
+        assert_eq!(
+            t.rows,
+            vec![(4, vec![1.0, 2.0, 3.0]), (6, vec![4.0, 5.0, 6.0])]
+        );
     }
 
     #[test]
     fn errors_name_file_line_and_rule() {
         let e = parse("x,y,z\n1,2,3\n1,abc,3\n").unwrap_err();
-        assert_eq!(e.to_string(), "t.csv, line 3: column 'y': 'abc' is not a number");
+        assert_eq!(
+            e.to_string(),
+            "t.csv, line 3: column 'y': 'abc' is not a number"
+        );
         let e = parse("x,y,z\n1,2\n").unwrap_err();
         assert!(e.to_string().contains("line 2: expected 3 values"), "{e}");
         let e = parse("x,y,z\n1,NaN,2\n").unwrap_err();

@@ -243,7 +243,12 @@ impl IrregularityInput {
                 let zip = |x: &Vec<f64>, y: &Vec<f64>, sign: f64| -> Vec<f64> {
                     x.iter().zip(y).map(|(x, y)| x + sign * 0.5 * y).collect()
                 };
-                [zip(a, g, 1.0), zip(a, g, -1.0), zip(l, c, 1.0), zip(l, c, -1.0)]
+                [
+                    zip(a, g, 1.0),
+                    zip(a, g, -1.0),
+                    zip(l, c, 1.0),
+                    zip(l, c, -1.0),
+                ]
             }
         };
         t.require_rows(MIN_ROWS)?;
@@ -306,8 +311,11 @@ mod tests {
 
     #[test]
     fn centerline_with_cant_mm() {
-        let c = CenterlineInput::parse(p(), "x,y,z,cant_mm\n0,0,0,0\n1,0,0,10\n2,0,0,20\n3,0,0,30\n")
-            .unwrap();
+        let c = CenterlineInput::parse(
+            p(),
+            "x,y,z,cant_mm\n0,0,0,0\n1,0,0,10\n2,0,0,20\n3,0,0,30\n",
+        )
+        .unwrap();
         assert_eq!(c.points.len(), 4);
         let phi = c.cant.unwrap().radians(1.5).unwrap();
         assert!((phi[3] - (0.03_f64 / 1.5).asin()).abs() < 1e-15);
@@ -320,13 +328,20 @@ mod tests {
         let e = CenterlineInput::parse(p(), "x,y,z\n0,0,0\n1,0,0\n2,0,0\n").unwrap_err();
         assert!(e.to_string().contains("at least 4"), "{e}");
         let e = CenterlineInput::parse(p(), "x,y,z\n0,0,0\n1,0,0\n1,0,0\n2,0,0\n").unwrap_err();
-        assert!(e.to_string().contains("line 4") && e.to_string().contains("repeats"), "{e}");
+        assert!(
+            e.to_string().contains("line 4") && e.to_string().contains("repeats"),
+            "{e}"
+        );
         let e = CenterlineInput::parse(p(), "x,y,z,q\n0,0,0,1\n").unwrap_err();
         assert!(e.to_string().contains("unknown column 'q'"), "{e}");
-        let c = CenterlineInput::parse(p(), "x,y,z,cant\n0,0,0,0\n1,0,0,0.1\n2,0,0,0.35\n3,0,0,0\n")
-            .unwrap();
+        let c =
+            CenterlineInput::parse(p(), "x,y,z,cant\n0,0,0,0\n1,0,0,0.1\n2,0,0,0.35\n3,0,0,0\n")
+                .unwrap();
         let e = c.cant.unwrap().radians(1.5).unwrap_err();
-        assert!(e.to_string().contains("line 4") && e.to_string().contains("0.3"), "{e}");
+        assert!(
+            e.to_string().contains("line 4") && e.to_string().contains("0.3"),
+            "{e}"
+        );
     }
 
     #[test]

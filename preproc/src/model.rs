@@ -128,8 +128,9 @@ impl TrackModel {
                 })
                 .collect::<Result<_, _>>()?;
             rails.push(
-                RailTable::new(side, rows.concat())
-                    .map_err(|e| BuildError::Geometry(format!("{} table: {e}", side.rail_name())))?,
+                RailTable::new(side, rows.concat()).map_err(|e| {
+                    BuildError::Geometry(format!("{} table: {e}", side.rail_name()))
+                })?,
             );
         }
         let right = rails.pop().expect("two rails");

@@ -134,7 +134,11 @@ impl Rail {
     }
 
     /// The rail at the increasing arc lengths `l`.
-    pub fn sample(&self, l: &[f64], centerline: &Centerline) -> Result<Vec<RailSample>, BuildError> {
+    pub fn sample(
+        &self,
+        l: &[f64],
+        centerline: &Centerline,
+    ) -> Result<Vec<RailSample>, BuildError> {
         self.curve
             .at_arc_lengths(l)
             .into_iter()

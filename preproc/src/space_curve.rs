@@ -265,7 +265,11 @@ mod tests {
         let pts = circle(r, 101, 1.0 / r);
         for scheme in [Scheme::Cubic, Scheme::CubicNatural, Scheme::Akima] {
             let c = SpaceCurve::fit(scheme, &pts).unwrap();
-            assert!((c.length() - 100.0).abs() < 1e-6, "{scheme}: {}", c.length());
+            assert!(
+                (c.length() - 100.0).abs() < 1e-6,
+                "{scheme}: {}",
+                c.length()
+            );
             let p = c.at_arc_length(50.0);
             assert!((p.curvature() * r - 1.0).abs() < 1e-4, "{scheme}");
         }
@@ -275,7 +279,10 @@ mod tests {
     fn marching_equals_single_queries() {
         let pts = circle(50.0, 40, 0.05);
         let c = SpaceCurve::fit(Scheme::Pchip, &pts).unwrap();
-        let s: Vec<f64> = (0..700).map(|k| k as f64 * 0.13).filter(|&s| s <= c.length()).collect();
+        let s: Vec<f64> = (0..700)
+            .map(|k| k as f64 * 0.13)
+            .filter(|&s| s <= c.length())
+            .collect();
         let marched = c.at_arc_lengths(&s);
         for (sk, m) in s.iter().zip(&marched) {
             let single = c.at_arc_length(*sk);

@@ -1,7 +1,7 @@
 //! The short report printed after a build (text, or JSON with `--json`).
 
-use serde::Serialize;
 use runtime::track::TrackTables;
+use serde::Serialize;
 
 /// Rows of each table.
 #[derive(Debug, Clone, Serialize, PartialEq)]

@@ -96,9 +96,12 @@ fn floats<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<f64>, D::Error> {
 fn reference() -> &'static Reference {
     static REFERENCE: OnceLock<Reference> = OnceLock::new();
     REFERENCE.get_or_init(|| {
-        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/spline_reference.json");
-        let text = std::fs::read_to_string(path)
-            .unwrap_or_else(|e| panic!("cannot read {path}: {e}"));
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/tests/data/spline_reference.json"
+        );
+        let text =
+            std::fs::read_to_string(path).unwrap_or_else(|e| panic!("cannot read {path}: {e}"));
         serde_json::from_str(&text).unwrap_or_else(|e| panic!("cannot parse {path}: {e}"))
     })
 }
@@ -254,11 +257,24 @@ fn reference_file_covers_all_schemes_and_data_sets() {
                     w[1]
                 );
             }
-            assert!(ex.iter().filter(|&&e| e < x[0]).count() >= 2, "{}", case.name);
-            assert!(ex.iter().filter(|&&e| e > x[n - 1]).count() >= 2, "{}", case.name);
+            assert!(
+                ex.iter().filter(|&&e| e < x[0]).count() >= 2,
+                "{}",
+                case.name
+            );
+            assert!(
+                ex.iter().filter(|&&e| e > x[n - 1]).count() >= 2,
+                "{}",
+                case.name
+            );
         }
     }
-    for (name, n) in [("small_n2", 2), ("small_n3", 3), ("small_n4", 4), ("small_n5", 5)] {
+    for (name, n) in [
+        ("small_n2", 2),
+        ("small_n3", 3),
+        ("small_n4", 4),
+        ("small_n5", 5),
+    ] {
         let case = reference.cases.iter().find(|c| c.name == name).unwrap();
         assert_eq!(case.x.len(), n, "{name}");
     }

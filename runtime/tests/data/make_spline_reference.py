@@ -31,7 +31,7 @@ Data sets (all deterministic; the one pseudo-random set uses
 * smooth_nonuniform     sin/exp mix on 12 irregular knots
 * uniform_linspace      smooth data on ``linspace`` knots (uniform lookup path)
 * uniform_seeded        seeded normal noise on exactly uniform knots
-* clustered_knots       very uneven spacing, tiny first and last intervals
+* clustered_knots       very uneven spacing (ratios ~100), short end intervals
                         (stresses the tridiagonal solve and not-a-knot rows)
 * step                  a unit step on uniform knots (flat runs either side)
 * corner_flat_runs      corners, flat runs and slope sign changes: Akima's
