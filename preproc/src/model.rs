@@ -89,15 +89,15 @@ impl TrackModel {
             name: "centerline",
             rows: s_grid.len() as u64,
         });
-        let rows: Vec<Vec<CenterlineRow>> = s_grid
-            .par_chunks(CHUNK_ROWS)
-            .map(|chunk| {
-                let rows = self.centerline_rows(chunk);
-                progress.event(Progress::Rows(chunk.len() as u64));
-                rows
-            })
-            .collect::<Result<_, _>>()?;
-        let centerline = CenterlineTable::new(rows.concat())
+        let mut rows = vec![CenterlineRow::default(); s_grid.len()];
+        rows.par_chunks_mut(CHUNK_ROWS)
+            .zip(s_grid.par_chunks(CHUNK_ROWS))
+            .try_for_each(|(out, s)| {
+                self.centerline_rows(s, out)?;
+                progress.event(Progress::Rows(s.len() as u64));
+                Ok::<_, BuildError>(())
+            })?;
+        let centerline = CenterlineTable::new(rows)
             .map_err(|e| BuildError::Geometry(format!("centreline table: {e}")))?;
 
         let mut rails = Vec::with_capacity(2);
@@ -108,27 +108,24 @@ impl TrackModel {
                 name: side.rail_name(),
                 rows: l_grid.len() as u64,
             });
-            let rows: Vec<Vec<RailRow>> = l_grid
-                .par_chunks(CHUNK_ROWS)
-                .map(|chunk| {
-                    let rows = rail.sample(chunk, &self.centerline).map(|samples| {
-                        samples
-                            .iter()
-                            .map(|r| RailRow {
-                                l_m: r.l_m,
-                                position: r.point.r.into(),
-                                t: r.frame.t.into(),
-                                n: r.frame.n.into(),
-                                b: r.frame.b.into(),
-                            })
-                            .collect()
-                    });
-                    progress.event(Progress::Rows(chunk.len() as u64));
-                    rows
-                })
-                .collect::<Result<_, _>>()?;
+            let mut rows = vec![RailRow::default(); l_grid.len()];
+            rows.par_chunks_mut(CHUNK_ROWS)
+                .zip(l_grid.par_chunks(CHUNK_ROWS))
+                .try_for_each(|(out, l)| {
+                    for (o, r) in out.iter_mut().zip(rail.sample(l, &self.centerline)?) {
+                        *o = RailRow {
+                            l_m: r.l_m,
+                            position: r.point.r.into(),
+                            t: r.frame.t.into(),
+                            n: r.frame.n.into(),
+                            b: r.frame.b.into(),
+                        };
+                    }
+                    progress.event(Progress::Rows(l.len() as u64));
+                    Ok::<_, BuildError>(())
+                })?;
             rails.push(
-                RailTable::new(side, rows.concat()).map_err(|e| {
+                RailTable::new(side, rows).map_err(|e| {
                     BuildError::Geometry(format!("{} table: {e}", side.rail_name()))
                 })?,
             );
@@ -143,12 +140,9 @@ impl TrackModel {
         })
     }
 
-    fn centerline_rows(&self, s: &[f64]) -> Result<Vec<CenterlineRow>, BuildError> {
-        Ok(self
-            .centerline
-            .sample(s)?
-            .iter()
-            .map(|c| {
+    fn centerline_rows(&self, s: &[f64], out: &mut [CenterlineRow]) -> Result<(), BuildError> {
+        for (o, c) in out.iter_mut().zip(self.centerline.sample(s)?) {
+            *o = {
                 let d = self
                     .irregularities
                     .as_ref()
@@ -171,8 +165,9 @@ impl TrackModel {
                     level_left_m: d.level_left_m,
                     level_right_m: d.level_right_m,
                 }
-            })
-            .collect())
+            };
+        }
+        Ok(())
     }
 
     fn meta(&self) -> TrackMeta {

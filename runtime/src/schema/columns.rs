@@ -23,28 +23,44 @@ pub(super) fn to_vlu(s: &str) -> VarLenUnicode {
         .unwrap_or_else(|_| VarLenUnicode::new())
 }
 
-/// Write `rows` (row-major, `columns.len()` values each) as `group/name`.
-pub(super) fn write_table(
+/// Rows written per HDF5 call: a small buffer reused for the whole table,
+/// so writing a 10⁶-row table does not allocate a second copy of it.
+const WRITE_CHUNK_ROWS: usize = 1 << 14;
+
+/// Write `rows` as the 2-D dataset `group/name` with `columns`/`units`
+/// attributes; `to_columns` gives the values of one row.
+pub(super) fn write_table<R, const K: usize>(
     path: &Path,
     group: &hdf5::Group,
     name: &str,
-    columns: &[&str],
-    units: &[&str],
-    data: Vec<f64>,
+    columns: &[&str; K],
+    units: &[&str; K],
+    rows: &[R],
+    to_columns: impl Fn(&R) -> [f64; K],
 ) -> Result<(), SchemaError> {
-    let k = columns.len();
-    let n = data.len() / k;
     let what = format!("writing {}/{name}", group.name());
-    let arr = Array2::from_shape_vec((n, k), data).map_err(|e| SchemaError::Invalid {
-        path: path.to_path_buf(),
-        object: what.clone(),
-        rule: e.to_string(),
-    })?;
     let ds = group
-        .new_dataset_builder()
-        .with_data(&arr)
+        .new_dataset::<f64>()
+        .shape((rows.len(), K))
         .create(name)
         .map_err(hdf5_err(path, what.clone()))?;
+    let mut buf: Vec<f64> = Vec::with_capacity(WRITE_CHUNK_ROWS.min(rows.len()) * K);
+    for (k, chunk) in rows.chunks(WRITE_CHUNK_ROWS).enumerate() {
+        buf.clear();
+        for r in chunk {
+            buf.extend_from_slice(&to_columns(r));
+        }
+        let start = k * WRITE_CHUNK_ROWS;
+        let view = ndarray::ArrayView2::from_shape((chunk.len(), K), &buf).map_err(|e| {
+            SchemaError::Invalid {
+                path: path.to_path_buf(),
+                object: what.clone(),
+                rule: e.to_string(),
+            }
+        })?;
+        ds.write_slice(view, ndarray::s![start..start + chunk.len(), ..])
+            .map_err(hdf5_err(path, what.clone()))?;
+    }
     let cols: Vec<VarLenUnicode> = columns.iter().map(|c| to_vlu(c)).collect();
     let unit: Vec<VarLenUnicode> = units.iter().map(|c| to_vlu(c)).collect();
     ds.new_attr_builder()

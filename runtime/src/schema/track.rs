@@ -100,19 +100,14 @@ impl TableFileWriter {
             .file
             .create_group("centerline")
             .map_err(self.err("creating /centerline"))?;
-        let data: Vec<f64> = track
-            .centerline
-            .rows()
-            .iter()
-            .flat_map(|r| r.to_columns())
-            .collect();
         write_table(
             &path,
             &g,
             "database",
             &CENTERLINE_COLUMNS,
             &CENTERLINE_UNITS,
-            data,
+            track.centerline.rows(),
+            CenterlineRow::to_columns,
         )?;
 
         for side in Side::BOTH {
@@ -120,13 +115,15 @@ impl TableFileWriter {
                 .file
                 .create_group(rail_group(side))
                 .map_err(self.err("creating a rail group"))?;
-            let data: Vec<f64> = track
-                .rail(side)
-                .rows()
-                .iter()
-                .flat_map(|r| r.to_columns())
-                .collect();
-            write_table(&path, &g, "database", &RAIL_COLUMNS, &RAIL_UNITS, data)?;
+            write_table(
+                &path,
+                &g,
+                "database",
+                &RAIL_COLUMNS,
+                &RAIL_UNITS,
+                track.rail(side).rows(),
+                RailRow::to_columns,
+            )?;
         }
         Ok(())
     }
