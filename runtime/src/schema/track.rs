@@ -190,18 +190,7 @@ fn open_checked(path: &Path) -> Result<hdf5::File, SchemaError> {
         path: path.to_path_buf(),
         source,
     })?;
-    let found: u32 = file
-        .attr("schema_version")
-        .map_err(|_| SchemaError::Missing {
-            path: path.to_path_buf(),
-            what: "root attribute 'schema_version'".into(),
-        })?
-        .read_scalar()
-        .map_err(|source| SchemaError::Hdf5 {
-            path: path.to_path_buf(),
-            action: "reading schema_version".into(),
-            source,
-        })?;
+    let found: u32 = read_attr(path, &file, "schema_version")?;
     if found != SCHEMA_VERSION {
         return Err(SchemaError::UnsupportedVersion {
             path: path.to_path_buf(),
@@ -212,7 +201,12 @@ fn open_checked(path: &Path) -> Result<hdf5::File, SchemaError> {
     Ok(file)
 }
 
-fn read_attr_f64(path: &Path, file: &hdf5::File, name: &str) -> Result<f64, SchemaError> {
+/// A root attribute of any HDF5 type.
+fn read_attr<T: hdf5::H5Type>(
+    path: &Path,
+    file: &hdf5::File,
+    name: &str,
+) -> Result<T, SchemaError> {
     file.attr(name)
         .map_err(|_| SchemaError::Missing {
             path: path.to_path_buf(),
@@ -226,20 +220,12 @@ fn read_attr_f64(path: &Path, file: &hdf5::File, name: &str) -> Result<f64, Sche
         })
 }
 
+fn read_attr_f64(path: &Path, file: &hdf5::File, name: &str) -> Result<f64, SchemaError> {
+    read_attr(path, file, name)
+}
+
 fn read_attr_str(path: &Path, file: &hdf5::File, name: &str) -> Result<String, SchemaError> {
-    let v: VarLenUnicode = file
-        .attr(name)
-        .map_err(|_| SchemaError::Missing {
-            path: path.to_path_buf(),
-            what: format!("root attribute '{name}'"),
-        })?
-        .read_scalar()
-        .map_err(|source| SchemaError::Hdf5 {
-            path: path.to_path_buf(),
-            action: format!("reading attribute {name}"),
-            source,
-        })?;
-    Ok(v.as_str().to_string())
+    read_attr::<VarLenUnicode>(path, file, name).map(|v| v.as_str().to_string())
 }
 
 /// Load the track databases of a table file into memory.

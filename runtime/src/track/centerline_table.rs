@@ -5,7 +5,7 @@
 
 use nalgebra::Vector3;
 
-use super::grid::UniformGrid;
+use super::grid::{UniformGrid, check_rows, lerp3};
 use super::{Frame, Side, TrackError};
 
 /// Column names of the centreline database, in file order.
@@ -161,21 +161,8 @@ impl CenterlineTable {
     /// be shorter) and rail arc lengths that increase with `s`.
     pub fn new(rows: Vec<CenterlineRow>) -> Result<Self, TrackError> {
         let table = "centerline";
-        if rows.len() < 2 {
-            return Err(TrackError::InvalidTable {
-                table,
-                row: rows.len(),
-                rule: "the centreline table needs at least 2 rows".into(),
-            });
-        }
+        check_rows(table, rows.iter().map(CenterlineRow::to_columns))?;
         for (row, r) in rows.iter().enumerate() {
-            if r.to_columns().iter().any(|v| !v.is_finite()) {
-                return Err(TrackError::InvalidTable {
-                    table,
-                    row,
-                    rule: "non-finite value".into(),
-                });
-            }
             if row > 0
                 && (r.l_left_m <= rows[row - 1].l_left_m || r.l_right_m <= rows[row - 1].l_right_m)
             {
@@ -239,13 +226,7 @@ impl CenterlineTable {
     pub fn at(&self, s_m: f64) -> Result<CenterlinePoint, TrackError> {
         let (i, f) = self.locate(s_m)?;
         let (r0, r1) = (&self.rows[i], &self.rows[i + 1]);
-        let lerp3 = |a: &[f64; 3], b: &[f64; 3]| {
-            Vector3::new(
-                a[0] + f * (b[0] - a[0]),
-                a[1] + f * (b[1] - a[1]),
-                a[2] + f * (b[2] - a[2]),
-            )
-        };
+        let lerp3 = |a, b| lerp3(f, a, b);
         let lerp = |a: f64, b: f64| a + f * (b - a);
         Ok(CenterlinePoint {
             s_m,

@@ -2,6 +2,10 @@
 //! except that the last interval may be shorter (the table ends exactly at
 //! the end of the track).
 
+use nalgebra::Vector3;
+
+use super::TrackError;
+
 /// Uniform row spacing `h` from `x0`; `intervals` = rows − 1.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct UniformGrid {
@@ -67,4 +71,40 @@ impl UniformGrid {
     pub(crate) fn step(&self) -> f64 {
         1.0 / self.inv_h
     }
+}
+
+/// `a + f (b − a)` for 3-vectors stored as arrays.
+#[inline]
+pub(crate) fn lerp3(f: f64, a: &[f64; 3], b: &[f64; 3]) -> Vector3<f64> {
+    Vector3::new(
+        a[0] + f * (b[0] - a[0]),
+        a[1] + f * (b[1] - a[1]),
+        a[2] + f * (b[2] - a[2]),
+    )
+}
+
+/// Check a table has at least two rows, all finite (`rows` yields each
+/// row's values).
+pub(crate) fn check_rows<const N: usize>(
+    table: &'static str,
+    rows: impl ExactSizeIterator<Item = [f64; N]>,
+) -> Result<(), TrackError> {
+    let len = rows.len();
+    if len < 2 {
+        return Err(TrackError::InvalidTable {
+            table,
+            row: len,
+            rule: "a table needs at least 2 rows".into(),
+        });
+    }
+    for (row, values) in rows.enumerate() {
+        if values.iter().any(|v| !v.is_finite()) {
+            return Err(TrackError::InvalidTable {
+                table,
+                row,
+                rule: "non-finite value".into(),
+            });
+        }
+    }
+    Ok(())
 }

@@ -5,7 +5,7 @@
 
 use nalgebra::Vector3;
 
-use super::grid::UniformGrid;
+use super::grid::{UniformGrid, check_rows, lerp3};
 use super::{Frame, Side, TrackError};
 
 /// Column names of a rail database, in file order (SPEC §3g).
@@ -80,22 +80,7 @@ impl RailTable {
     /// uniformly spaced (the last interval may be shorter).
     pub fn new(side: Side, rows: Vec<RailRow>) -> Result<Self, TrackError> {
         let table = side.rail_name();
-        if rows.len() < 2 {
-            return Err(TrackError::InvalidTable {
-                table,
-                row: rows.len(),
-                rule: "a rail table needs at least 2 rows".into(),
-            });
-        }
-        for (row, r) in rows.iter().enumerate() {
-            if r.to_columns().iter().any(|v| !v.is_finite()) {
-                return Err(TrackError::InvalidTable {
-                    table,
-                    row,
-                    rule: "non-finite value".into(),
-                });
-            }
-        }
+        check_rows(table, rows.iter().map(RailRow::to_columns))?;
         let grid = UniformGrid::detect(|k| rows[k].l_m, rows.len()).map_err(|row| {
             TrackError::InvalidTable {
                 table,
@@ -146,13 +131,7 @@ impl RailTable {
         let i = self.grid.interval(l_m, |k| self.rows[k].l_m);
         let (r0, r1) = (&self.rows[i], &self.rows[i + 1]);
         let f = (l_m - r0.l_m) / (r1.l_m - r0.l_m);
-        let lerp = |a: &[f64; 3], b: &[f64; 3]| {
-            Vector3::new(
-                a[0] + f * (b[0] - a[0]),
-                a[1] + f * (b[1] - a[1]),
-                a[2] + f * (b[2] - a[2]),
-            )
-        };
+        let lerp = |a, b| lerp3(f, a, b);
         Ok(RailPoint {
             l_m,
             position: lerp(&r0.position, &r1.position),
