@@ -10,6 +10,7 @@
 
 pub mod centerline;
 pub mod cli;
+pub mod conicity;
 pub mod config;
 pub mod csv;
 pub mod error;

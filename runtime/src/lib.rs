@@ -14,3 +14,6 @@ pub mod spline;
 pub mod track;
 
 pub use nalgebra::Vector3;
+pub mod elliptic;
+pub mod hertz;
+pub mod profile_import;

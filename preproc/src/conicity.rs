@@ -1,0 +1,1 @@
+//! Equivalent conicity, EN 15302 (placeholder; being written).

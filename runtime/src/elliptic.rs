@@ -1,0 +1,1 @@
+//! Complete elliptic integrals (placeholder; being written).

@@ -1,0 +1,1 @@
+//! Hertz contact ellipse (placeholder; being written).

@@ -1,0 +1,1 @@
+//! Profile file import (placeholder; being written).
