@@ -10,8 +10,8 @@
 
 pub mod centerline;
 pub mod cli;
-pub mod conicity;
 pub mod config;
+pub mod conicity;
 pub mod csv;
 pub mod error;
 pub mod inputs;

@@ -8,12 +8,14 @@
 //! Units: SI throughout (m, s, kg, N, rad). Global frame Z up; track frame
 //! `t` tangent, `n` lateral pointing left, `b = t × n` up (SPEC §1).
 
+pub mod profile;
 pub mod quadrature;
 pub mod schema;
 pub mod spline;
 pub mod track;
 
 pub use nalgebra::Vector3;
+pub mod contact;
 pub mod elliptic;
 pub mod hertz;
 pub mod profile_import;

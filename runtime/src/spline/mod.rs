@@ -176,6 +176,22 @@ impl PiecewiseCubic {
         }
     }
 
+    /// The same function translated: `g(x) = f(x − dx) + dy`.
+    pub fn translated(&self, dx: f64, dy: f64) -> Self {
+        let knots: Vec<f64> = self.knots.iter().map(|k| k + dx).collect();
+        let coeffs = self
+            .coeffs
+            .iter()
+            .map(|c| [c[0] + dy, c[1], c[2], c[3]])
+            .collect();
+        Self {
+            scheme: self.scheme,
+            lookup: detect_uniform(&knots),
+            knots,
+            coeffs,
+        }
+    }
+
     /// The scheme this function was fitted with.
     pub fn scheme(&self) -> Scheme {
         self.scheme

@@ -6,12 +6,16 @@ mod centerline_table;
 mod frame;
 mod grid;
 mod rail_table;
+mod straight;
 
 pub use centerline_table::{
     CENTERLINE_COLUMNS, CENTERLINE_UNITS, CenterlinePoint, CenterlineRow, CenterlineTable,
 };
 pub use frame::{Frame, rail_roll_rad};
-pub use rail_table::{RAIL_COLUMNS, RAIL_UNITS, RailPoint, RailRow, RailTable};
+pub use rail_table::{
+    RAIL_COLUMNS, RAIL_UNITS, RailPoint, RailPointDerivative, RailRow, RailTable,
+};
+pub use straight::straight_track;
 
 use std::fmt;
 

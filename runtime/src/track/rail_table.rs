@@ -144,6 +144,49 @@ impl RailTable {
     }
 }
 
+/// Derivatives with respect to L of the linearly interpolated rail
+/// quantities: constant over each table interval (the row difference over
+/// the step), consistent with the linear interpolation of paper §2g.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RailPointDerivative {
+    /// dp/dL (–), ≈ t.
+    pub position: Vector3<f64>,
+    /// dt/dL, dn/dL, db/dL (1/m).
+    pub t: Vector3<f64>,
+    pub n: Vector3<f64>,
+    pub b: Vector3<f64>,
+}
+
+impl RailTable {
+    /// Position, frame and their L-derivatives at `l_m` (see [`Self::at`]).
+    #[inline]
+    pub fn at_with_derivative(
+        &self,
+        l_m: f64,
+    ) -> Result<(RailPoint, RailPointDerivative), TrackError> {
+        let p = self.at(l_m)?;
+        let i = self.grid.interval(l_m, |k| self.rows[k].l_m);
+        let (r0, r1) = (&self.rows[i], &self.rows[i + 1]);
+        let inv = 1.0 / (r1.l_m - r0.l_m);
+        let diff = |a: &[f64; 3], b: &[f64; 3]| {
+            Vector3::new(
+                (b[0] - a[0]) * inv,
+                (b[1] - a[1]) * inv,
+                (b[2] - a[2]) * inv,
+            )
+        };
+        Ok((
+            p,
+            RailPointDerivative {
+                position: diff(&r0.position, &r1.position),
+                t: diff(&r0.t, &r1.t),
+                n: diff(&r0.n, &r1.n),
+                b: diff(&r0.b, &r1.b),
+            },
+        ))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,0 +1,172 @@
+//! The four contact equations of one wheel–rail pair and zone (paper
+//! §4.2, eq. 18–19; SPEC §6) and their analytic Jacobian.
+//!
+//! Unknowns `x = (s_r, u_r, s_w, u_w)`:
+//! * `s_r` — arc length of the rail (its table's L) (m);
+//! * `u_r` — lateral coordinate on the rail profile, along the rail's
+//!   lateral axis `n` (positive left) (m);
+//! * `s_w` — angle of the wheel's profile plane about the axle (rad),
+//!   positive when the point lies **ahead** of the axle (lead);
+//! * `u_w` — lateral coordinate on the wheel profile along the axle η
+//!   (positive left) (m).
+//!
+//! Surfaces (paper eq. 2–10):
+//! * rail: `r_r = p(s_r) + u_r·n(s_r) + f_r(u_r)·b(s_r)`, with
+//!   `f_r(u) = z_rail(σu)` (σ = +1 right, −1 left: the internal profile is the
+//!   right-hand one, see [`crate::profile`]);
+//! * wheel: `r_w = r_ws + A (h + (−f_w sin s_w, u_w, f_w cos s_w))`, with
+//!   `A = [ξ η ζ]`, `h = (0, −σH/2, 0)` and `f_w(u) = z_wheel(σu) − R0`
+//!   (minus the wheel radius).
+//!
+//! Equations: `N·t1 = 0`, `N·t2 = 0` (normals parallel, eq. 18) and
+//! `d·t1 = 0`, `d·t2 = 0` (distance along the normal, eq. 19), with
+//! `N = b − f_r'·n` the rail normal in its profile plane (paper eq. 5),
+//! `t1 = A (cos s_w, 0, sin s_w)` and `t2 = A (−f_w' sin s_w, 1, f_w' cos s_w)`
+//! the wheel's tangents (eq. 11–12) and `d = r_w − r_r`.
+
+use nalgebra::{Matrix4, Vector3, Vector4};
+
+use super::WheelsetPose;
+use crate::profile::{CurvePoint, PlacedRailProfile, ProfileCurve, WheelProfile};
+use crate::track::{RailPointDerivative, RailTable, Side, TrackError};
+
+/// Surface parameters of a candidate contact (see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct SurfaceParams {
+    /// Rail arc length (m).
+    pub s_rail_m: f64,
+    /// Lateral position on the rail profile along `n` (m).
+    pub u_rail_m: f64,
+    /// Angle of the wheel point about the axle, positive ahead (rad).
+    pub s_wheel_rad: f64,
+    /// Lateral position on the wheel profile along the axle η (m).
+    pub u_wheel_m: f64,
+}
+
+impl SurfaceParams {
+    pub(crate) fn to_vector(self) -> Vector4<f64> {
+        Vector4::new(
+            self.s_rail_m,
+            self.u_rail_m,
+            self.s_wheel_rad,
+            self.u_wheel_m,
+        )
+    }
+
+    pub(crate) fn from_vector(v: &Vector4<f64>) -> Self {
+        Self {
+            s_rail_m: v[0],
+            u_rail_m: v[1],
+            s_wheel_rad: v[2],
+            u_wheel_m: v[3],
+        }
+    }
+}
+
+/// Everything computed at one point `x` of the equations.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct PairEval {
+    pub residual: Vector4<f64>,
+    pub jacobian: Matrix4<f64>,
+    pub wheel_point: Vector3<f64>,
+    pub rail_point: Vector3<f64>,
+    /// Unnormalised rail normal `b − f_r' n`.
+    pub rail_normal: Vector3<f64>,
+    /// ∂r_r/∂s_r (the rail's rolling direction).
+    pub rail_ds: Vector3<f64>,
+    pub rail_d: RailPointDerivative,
+    /// Profile values at the internal (right-hand) coordinates σu.
+    pub rail_profile: CurvePoint,
+    pub wheel_profile: CurvePoint,
+}
+
+/// One wheel–rail pair and zone, ready to be evaluated.
+pub(crate) struct Pair<'a> {
+    pub rail_table: &'a RailTable,
+    pub rail: &'a PlacedRailProfile,
+    pub wheel: &'a WheelProfile,
+    pub wheel_curve: &'a ProfileCurve,
+    pub sigma: f64,
+    /// Lateral position of the wheel's profile origin on the axle (m): −σH/2.
+    pub h_m: f64,
+    pub pose: &'a WheelsetPose,
+}
+
+impl<'a> Pair<'a> {
+    pub fn new(
+        rail_table: &'a RailTable,
+        rail: &'a PlacedRailProfile,
+        wheel: &'a WheelProfile,
+        wheel_curve: &'a ProfileCurve,
+        half_spacing_m: f64,
+        pose: &'a WheelsetPose,
+    ) -> Self {
+        let sigma = match rail_table.side() {
+            Side::Left => -1.0,
+            Side::Right => 1.0,
+        };
+        Self {
+            rail_table,
+            rail,
+            wheel,
+            wheel_curve,
+            sigma,
+            h_m: -sigma * half_spacing_m,
+            pose,
+        }
+    }
+
+    /// Residual and Jacobian at `x`.
+    #[inline]
+    pub fn eval(&self, x: &Vector4<f64>) -> Result<PairEval, TrackError> {
+        let (s_r, u_r, s_w, u_w) = (x[0], x[1], x[2], x[3]);
+        let sg = self.sigma;
+        // Rail.
+        let (rail, rd) = self.rail_table.at_with_derivative(s_r)?;
+        let (p, n, b) = (rail.position, rail.frame.n, rail.frame.b);
+        let rp = self.rail.head().at(sg * u_r);
+        let (f_r, f_r1, f_r2) = (rp.z_m, sg * rp.dz, rp.d2z_1_m);
+        let r_r = p + n * u_r + b * f_r;
+        let r_r_s = rd.position + rd.n * u_r + rd.b * f_r;
+        let r_r_u = n + b * f_r1;
+        let big_n = b - n * f_r1;
+        let big_n_s = rd.b - rd.n * f_r1;
+        let big_n_u = -n * f_r2;
+        // Wheel.
+        let wp = self.wheel_curve.at(sg * u_w);
+        let r0 = self.wheel.nominal_radius_m();
+        let (f_w, f_w1, f_w2) = (wp.z_m - r0, sg * wp.dz, wp.d2z_1_m);
+        let (ss, cs) = s_w.sin_cos();
+        let a = &self.pose.frame;
+        let q = Vector3::new(-f_w * ss, self.h_m + u_w, f_w * cs);
+        let r_w = self.pose.position + a * q;
+        let r_w_s = a * Vector3::new(-f_w * cs, 0.0, -f_w * ss);
+        let t1 = a * Vector3::new(cs, 0.0, ss);
+        let t1_s = a * Vector3::new(-ss, 0.0, cs);
+        let t2 = a * Vector3::new(-f_w1 * ss, 1.0, f_w1 * cs);
+        let t2_s = a * Vector3::new(-f_w1 * cs, 0.0, -f_w1 * ss);
+        let t2_u = a * Vector3::new(-f_w2 * ss, 0.0, f_w2 * cs);
+        let r_w_u = t2;
+        let d = r_w - r_r;
+
+        let residual = Vector4::new(big_n.dot(&t1), big_n.dot(&t2), d.dot(&t1), d.dot(&t2));
+        #[rustfmt::skip]
+        let jacobian = Matrix4::new(
+            big_n_s.dot(&t1), big_n_u.dot(&t1), big_n.dot(&t1_s), 0.0,
+            big_n_s.dot(&t2), big_n_u.dot(&t2), big_n.dot(&t2_s), big_n.dot(&t2_u),
+            -r_r_s.dot(&t1), -r_r_u.dot(&t1), r_w_s.dot(&t1) + d.dot(&t1_s), r_w_u.dot(&t1),
+            -r_r_s.dot(&t2), -r_r_u.dot(&t2), r_w_s.dot(&t2) + d.dot(&t2_s), r_w_u.dot(&t2) + d.dot(&t2_u),
+        );
+        Ok(PairEval {
+            residual,
+            jacobian,
+            wheel_point: r_w,
+            rail_point: r_r,
+            rail_normal: big_n,
+            rail_ds: r_r_s,
+            rail_d: rd,
+            rail_profile: rp,
+            wheel_profile: wp,
+        })
+    }
+}

@@ -1,0 +1,63 @@
+//! Online contact detection (paper §4.2–4.3, SPEC §6): for each wheel and
+//! rail, the four surface parameters (s_r, u_r, s_w, u_w) solving the
+//! contact equations by Newton's method with an analytic Jacobian, for the
+//! tread and flange functions of the wheel separately — so the flange point
+//! may lie ahead of or behind the axle (lead/lag contact, s_w ≠ 0).
+//!
+//! Layers: [`pose`] (where the wheelset is) → `geometry` (the equations)
+//! → `newton` → `search` (cold start) → [`WheelsetContactModel`] (profiles
+//! of one wheelset, pair solves) → [`ContactSolver`] (a step: both wheels,
+//! zones, warm start, flange rule) → [`quasi_static`] (wheelset settled
+//! under load, flangeway clearance).
+//!
+//! "No contact" and "solve failed" are distinct: a pair solve returns
+//! `Ok(None)` or a [`Candidate`] with negative penetration when the bodies do
+//! not touch, and [`ContactError::NotConverged`] (with the state) when no
+//! start converges.
+
+mod candidate;
+mod geometry;
+mod model;
+mod newton;
+mod pose;
+pub mod quasi_static;
+mod search;
+mod solver;
+
+pub use candidate::{Candidate, Curvatures, SolveMethod};
+pub use geometry::SurfaceParams;
+pub use model::WheelsetContactModel;
+pub use pose::WheelsetPose;
+pub use solver::{ContactOptions, ContactSolver, FlangeSearch, SolverStats, WheelsetContacts};
+
+use crate::profile::Zone;
+use crate::track::{Side, TrackError};
+
+/// Why a contact could not be determined.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ContactError {
+    #[error(
+        "{side} wheel, {zone}: the contact equations did not converge after {iterations} Newton iterations (residual {residual:.3e}) at s_r = {:.4} m, u_r = {:.2} mm, s_w = {:.4} rad, u_w = {:.2} mm; wheelset at s = {s_track_m:.3} m, position [{:.4}, {:.4}, {:.4}] m",
+        params.s_rail_m,
+        params.u_rail_m * 1e3,
+        params.s_wheel_rad,
+        params.u_wheel_m * 1e3,
+        position_m[0],
+        position_m[1],
+        position_m[2],
+        zone = zone.name()
+    )]
+    NotConverged {
+        side: Side,
+        zone: Zone,
+        iterations: u32,
+        residual: f64,
+        params: SurfaceParams,
+        s_track_m: f64,
+        position_m: [f64; 3],
+    },
+    #[error(transparent)]
+    Track(#[from] TrackError),
+    #[error("{0}")]
+    Setup(String),
+}

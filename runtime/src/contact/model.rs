@@ -1,0 +1,279 @@
+//! A wheelset's contact model: its two wheel profiles and the two rail
+//! profiles placed on the track, with the pair-level solve (warm or cold).
+
+use nalgebra::Vector4;
+
+use super::candidate::{Candidate, SolveMethod, from_eval};
+use super::geometry::{Pair, SurfaceParams};
+use super::{ContactError, ContactOptions, WheelsetPose, newton, search};
+use crate::profile::{
+    PlacedRailProfile, ProfileError, RailPlacement, RailProfile, WheelProfile, Zone,
+};
+use crate::track::{Side, TrackTables};
+
+/// Tolerance on the profile domains when accepting a solution (m).
+const DOMAIN_TOL_M: f64 = 1e-4;
+/// Largest |s_w| of an acceptable solution (rad): beyond it the "contact"
+/// would be on the side of the wheel, not under it.
+const MAX_S_WHEEL_RAD: f64 = 0.6;
+/// A failed solve whose last iterate lies farther than this outside the
+/// profiles (m) has left its zone: no contact there, not a failure.
+const OUTSIDE_M: f64 = 0.002;
+/// Sampled gap beyond which a piece whose exact closest point was not found
+/// is still certainly clear of the rail (m); see `clear_gap_m`.
+const CLEAR_GAP_M: f64 = 0.001;
+/// Cold-start points tried before giving up.
+const COLD_STARTS: usize = 6;
+
+fn side_index(side: Side) -> usize {
+    match side {
+        Side::Left => 0,
+        Side::Right => 1,
+    }
+}
+
+/// The profiles of one wheelset on one track.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WheelsetContactModel {
+    wheels: [WheelProfile; 2],
+    rails: [PlacedRailProfile; 2],
+    back_to_back_m: f64,
+    placement: RailPlacement,
+}
+
+impl WheelsetContactModel {
+    /// Assemble the model; rails are placed with `placement` (see
+    /// [`RailProfile::placed`]). Left and right profiles may differ.
+    pub fn new(
+        left_wheel: WheelProfile,
+        right_wheel: WheelProfile,
+        back_to_back_m: f64,
+        left_rail: &RailProfile,
+        right_rail: &RailProfile,
+        placement: RailPlacement,
+    ) -> Result<Self, ProfileError> {
+        if !(back_to_back_m > 0.3 && back_to_back_m < 3.0) {
+            return Err(ProfileError::Invalid {
+                path: left_wheel.path().to_path_buf(),
+                rule: format!("back-to-back distance {back_to_back_m} m must lie in 0.3 … 3 m"),
+            });
+        }
+        Ok(Self {
+            rails: [
+                left_rail.placed(&placement)?,
+                right_rail.placed(&placement)?,
+            ],
+            wheels: [left_wheel, right_wheel],
+            back_to_back_m,
+            placement,
+        })
+    }
+
+    /// The wheel profile of a side.
+    pub fn wheel(&self, side: Side) -> &WheelProfile {
+        &self.wheels[side_index(side)]
+    }
+
+    /// The placed rail profile of a side.
+    pub fn rail(&self, side: Side) -> &PlacedRailProfile {
+        &self.rails[side_index(side)]
+    }
+
+    /// Back-to-back distance (m).
+    pub fn back_to_back_m(&self) -> f64 {
+        self.back_to_back_m
+    }
+
+    /// How the rails were placed.
+    pub fn placement(&self) -> &RailPlacement {
+        &self.placement
+    }
+
+    /// Lateral distance from the wheelset centre to a wheel's taping line
+    /// (m): back-to-back/2 + the wheel's flange-back distance (b0 of the
+    /// paper for identical wheels).
+    pub fn half_spacing_m(&self, side: Side) -> f64 {
+        0.5 * self.back_to_back_m + self.wheel(side).flange_back_m()
+    }
+
+    pub(crate) fn pair<'a>(
+        &'a self,
+        track: &'a TrackTables,
+        pose: &'a WheelsetPose,
+        side: Side,
+        segment: usize,
+    ) -> Option<Pair<'a>> {
+        let wheel = self.wheel(side);
+        let seg = wheel.segments().get(segment)?;
+        Some(Pair::new(
+            track.rail(side),
+            self.rail(side),
+            wheel,
+            &seg.curve,
+            self.half_spacing_m(side),
+            pose,
+        ))
+    }
+
+    /// Solve the contact equations of one wheel and one piece of its profile
+    /// (see [`WheelProfile::segments`]): from `guess` when given, falling back
+    /// to the coarse search. `Ok(None)` when the piece does not exist or its
+    /// solution lies outside the profiles (no contact possible on this
+    /// piece); an error when no start converges.
+    pub fn solve_pair(
+        &self,
+        track: &TrackTables,
+        pose: &WheelsetPose,
+        side: Side,
+        segment: usize,
+        guess: Option<SurfaceParams>,
+        options: &ContactOptions,
+    ) -> Result<Option<Candidate>, ContactError> {
+        let max_iterations = options.max_iterations;
+        let Some(pair) = self.pair(track, pose, side, segment) else {
+            return Ok(None);
+        };
+        let zone = self.wheel(side).segments()[segment].zone;
+        let mut any_converged = false;
+        let mut last_fail = None;
+        let mut total_iterations = 0;
+        if let Some(g) = guess {
+            match newton::solve(&pair, g.to_vector(), max_iterations) {
+                Ok(c) => {
+                    any_converged = true;
+                    total_iterations += c.iterations;
+                    if let Some(cand) = self.accept(&pair, side, zone, segment, &c, false) {
+                        return Ok(Some(cand));
+                    }
+                }
+                Err(f) => {
+                    total_iterations += f.iterations;
+                    last_fail = Some(f)
+                }
+            }
+        }
+        let s_rail0 = track.centerline.rail_l(side, pose.s_track_m)?;
+        let found = search::search(&pair, s_rail0, COLD_STARTS);
+        // Every start is tried; of the contacts found the deepest is kept
+        // (a nearly conformal piece can have several stationary points).
+        let mut best: Option<Candidate> = None;
+        for &x0 in &found.starts {
+            match newton::solve(&pair, x0, max_iterations) {
+                Ok(c) => {
+                    any_converged = true;
+                    total_iterations += c.iterations;
+                    if let Some(cand) = self.accept(&pair, side, zone, segment, &c, true)
+                        && best.is_none_or(|b| cand.penetration_m > b.penetration_m)
+                    {
+                        best = Some(cand);
+                    }
+                }
+                Err(f) => {
+                    total_iterations += f.iterations;
+                    last_fail = Some(f)
+                }
+            }
+        }
+        if let Some(mut cand) = best {
+            cand.iterations = total_iterations;
+            return Ok(Some(cand));
+        }
+        match (any_converged, last_fail) {
+            (true, _) | (false, None) => Ok(None),
+            // No stationary point inside this piece: its closest approach is at
+            // an end (the contact belongs to the neighbouring piece, or lies
+            // beyond the modelled rail), or Newton left the piece for good.
+            (false, Some(f))
+                if found.at_boundary
+                    || !self.near_domains(&pair, &f.x)
+                    || found.min_distance_m > self.clear_gap_m(side, pose) =>
+            {
+                Ok(None)
+            }
+            (false, Some(_)) if options.minimisation_fallback && found.minimum.is_some() => {
+                let x = found.minimum.expect("checked");
+                let e = pair.eval(&x)?;
+                let mut c = from_eval(
+                    side,
+                    zone,
+                    segment,
+                    SurfaceParams::from_vector(&x),
+                    total_iterations,
+                    true,
+                    &e,
+                    pair.sigma,
+                    pair.wheel.nominal_radius_m(),
+                    self.placement.inclination_rad,
+                    |u, z| pair.wheel.to_file_m(u, z),
+                    |u, z| pair.rail.to_file_m(u, z),
+                );
+                c.method = SolveMethod::Minimisation;
+                Ok(Some(c))
+            }
+            (false, Some(f)) => Err(ContactError::NotConverged {
+                side,
+                zone,
+                iterations: total_iterations,
+                residual: f.residual,
+                params: SurfaceParams::from_vector(&f.x),
+                s_track_m: pose.s_track_m,
+                position_m: pose.position.into(),
+            }),
+        }
+    }
+
+    /// A sampled gap larger than this (m) means the piece is clear of the rail
+    /// even if its exact closest point was not found: 1 mm plus the reach of
+    /// a yawed wheel ahead of its lowest point, |ψ|·√(2·R0·h_f).
+    fn clear_gap_m(&self, side: Side, pose: &WheelsetPose) -> f64 {
+        let wheel = self.wheel(side);
+        let yaw = pose
+            .frame
+            .column(0)
+            .y
+            .abs()
+            .max(pose.frame.column(0).z.abs());
+        CLEAR_GAP_M
+            + yaw * (2.0 * wheel.nominal_radius_m() * wheel.flange_depth_m().max(0.01)).sqrt()
+    }
+
+    /// True when `x` lies within the profiles, widened by [`OUTSIDE_M`].
+    fn near_domains(&self, pair: &Pair<'_>, x: &Vector4<f64>) -> bool {
+        pair.wheel_curve.contains(pair.sigma * x[3], OUTSIDE_M)
+            && pair.rail.head().contains(pair.sigma * x[1], OUTSIDE_M)
+    }
+
+    fn accept(
+        &self,
+        pair: &Pair<'_>,
+        side: Side,
+        zone: Zone,
+        segment: usize,
+        c: &newton::Converged,
+        cold: bool,
+    ) -> Option<Candidate> {
+        let x: Vector4<f64> = c.x;
+        let sg = pair.sigma;
+        let wheel_ok = pair.wheel_curve.contains(sg * x[3], DOMAIN_TOL_M);
+        let rail_ok = pair.rail.head().contains(sg * x[1], DOMAIN_TOL_M);
+        if !(wheel_ok && rail_ok && x[2].abs() < MAX_S_WHEEL_RAD) {
+            return None;
+        }
+        let wheel = pair.wheel;
+        let rail = pair.rail;
+        Some(from_eval(
+            side,
+            zone,
+            segment,
+            SurfaceParams::from_vector(&x),
+            c.iterations,
+            cold,
+            &c.eval,
+            sg,
+            wheel.nominal_radius_m(),
+            self.placement.inclination_rad,
+            |u, z| wheel.to_file_m(u, z),
+            |u, z| rail.to_file_m(u, z),
+        ))
+    }
+}

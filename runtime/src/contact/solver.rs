@@ -1,0 +1,252 @@
+//! The per-step contact search of a wheelset (paper Fig. 8 steps b and f):
+//! both wheels, every piece of their profiles (tread and flange), warm
+//! started from the previous step's surface parameters, with the flange
+//! search rule.
+
+use super::candidate::Candidate;
+use super::geometry::SurfaceParams;
+use super::model::WheelsetContactModel;
+use super::{ContactError, WheelsetPose};
+use crate::profile::{MAX_SEGMENTS, Zone};
+use crate::track::{Side, TrackTables};
+
+/// When the flange zones are searched (paper §4.3: the user chooses whether
+/// flange contact matters; SPEC §6).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FlangeSearch {
+    /// Never: tread contact only.
+    Off,
+    /// At every solve.
+    On,
+    /// Only when the flange may be near its rail (see [`ContactOptions`]).
+    #[default]
+    Auto,
+}
+
+impl std::str::FromStr for FlangeSearch {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "off" => Ok(Self::Off),
+            "on" => Ok(Self::On),
+            "auto" => Ok(Self::Auto),
+            other => Err(format!("flange search '{other}' is not off, on or auto")),
+        }
+    }
+}
+
+/// Options of the contact search.
+///
+/// # The `auto` flange rule
+///
+/// A wheel's flange zone is searched when either
+/// * its flange was within `auto_margin_m` of its rail (gap) or in contact
+///   at the previous solve, or
+/// * the wheel's lateral approach towards its rail, plus the reach of a
+///   yawed flange `|ψ|·√(2·R0·h_f)` (ψ the yaw relative to the rail, h_f the
+///   flange depth), exceeds `flange_clearance_m − auto_margin_m`.
+///
+/// `flange_clearance_m` is the lateral displacement at which the flange
+/// meets the rail for the centred, unyawed wheelset (from
+/// [`super::quasi_static::flange_clearance_m`]); with 0 (the default) the
+/// `auto` rule searches always.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactOptions {
+    pub flange: FlangeSearch,
+    /// Newton iterations allowed per start.
+    pub max_iterations: u32,
+    /// Safety margin of the `auto` rule (m).
+    pub auto_margin_m: f64,
+    /// Flangeway clearance of each side, left and right (m).
+    pub flange_clearance_m: [f64; 2],
+    /// Where Newton's method fails from every start on a piece that is in
+    /// or near contact (a nearly conformal contact, whose Jacobian is
+    /// singular), take the contact from the direct minimisation of the
+    /// cross-sectional distance instead of failing. Such contacts are marked
+    /// [`super::SolveMethod::Minimisation`] and counted in [`SolverStats`].
+    /// With `false` they are [`ContactError::NotConverged`] errors.
+    pub minimisation_fallback: bool,
+}
+
+impl Default for ContactOptions {
+    fn default() -> Self {
+        Self {
+            flange: FlangeSearch::Auto,
+            max_iterations: 25,
+            auto_margin_m: 0.003,
+            flange_clearance_m: [0.0, 0.0],
+            minimisation_fallback: true,
+        }
+    }
+}
+
+/// The candidates of one wheelset: for each wheel (left, right) one slot
+/// per piece of its profile.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct WheelsetContacts {
+    pub candidates: [[Option<Candidate>; MAX_SEGMENTS]; 2],
+}
+
+impl WheelsetContacts {
+    /// The candidates of one wheel.
+    pub fn side(&self, side: Side) -> impl Iterator<Item = &Candidate> {
+        self.candidates[si(side)].iter().flatten()
+    }
+
+    /// The deepest candidate of a wheel's zone, if any.
+    pub fn get(&self, side: Side, zone: Zone) -> Option<&Candidate> {
+        self.side(side)
+            .filter(|c| c.zone == zone)
+            .max_by(|a, b| a.penetration_m.total_cmp(&b.penetration_m))
+    }
+
+    /// All candidates.
+    pub fn iter(&self) -> impl Iterator<Item = &Candidate> {
+        self.candidates.iter().flatten().flatten()
+    }
+
+    /// The candidates that are in contact (δ ≥ 0).
+    pub fn contacts(&self) -> impl Iterator<Item = &Candidate> {
+        self.iter().filter(|c| c.in_contact())
+    }
+}
+
+/// Counters of the solver's work.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct SolverStats {
+    /// Pair solves performed.
+    pub solves: u64,
+    /// Newton iterations over all solves.
+    pub iterations: u64,
+    /// Solves that needed the coarse search.
+    pub cold_starts: u64,
+    /// Flange pieces skipped by the `auto` rule or `off`.
+    pub flange_skipped: u64,
+    /// Contacts taken from the minimisation fallback.
+    pub minimisations: u64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Warm {
+    params: SurfaceParams,
+    /// Rail arc length at the wheelset's track position when solved.
+    rail_l_m: f64,
+    /// Gap (−δ) at that solve (m).
+    gap_m: f64,
+}
+
+pub(crate) fn si(side: Side) -> usize {
+    match side {
+        Side::Left => 0,
+        Side::Right => 1,
+    }
+}
+
+/// Contact search with memory of the previous step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactSolver {
+    pub options: ContactOptions,
+    warm: [[Option<Warm>; MAX_SEGMENTS]; 2],
+    pub stats: SolverStats,
+}
+
+impl ContactSolver {
+    pub fn new(options: ContactOptions) -> Self {
+        Self {
+            options,
+            warm: Default::default(),
+            stats: SolverStats::default(),
+        }
+    }
+
+    /// Forget the previous solutions (the next solve starts cold).
+    pub fn reset(&mut self) {
+        self.warm = Default::default();
+    }
+
+    /// Whether the `auto` rule asks for the flange pieces of `side`.
+    fn flange_needed(
+        &self,
+        model: &WheelsetContactModel,
+        track: &TrackTables,
+        pose: &WheelsetPose,
+        side: Side,
+    ) -> Result<bool, ContactError> {
+        match self.options.flange {
+            FlangeSearch::Off => return Ok(false),
+            FlangeSearch::On => return Ok(true),
+            FlangeSearch::Auto => {}
+        }
+        let margin = self.options.auto_margin_m;
+        let wheel = model.wheel(side);
+        let flange_warm = wheel
+            .segments()
+            .iter()
+            .zip(&self.warm[si(side)])
+            .any(|(seg, w)| seg.zone == Zone::Flange && w.is_some_and(|w| w.gap_m < margin));
+        if flange_warm {
+            return Ok(true);
+        }
+        let sigma = match side {
+            Side::Left => -1.0,
+            Side::Right => 1.0,
+        };
+        let l = track.centerline.rail_l(side, pose.s_track_m)?;
+        let rail = track.rail(side).at(l)?;
+        let h = -sigma * model.half_spacing_m(side);
+        let origin = pose.position + pose.frame.column(1) * h;
+        let delta = (origin - rail.position).dot(&rail.frame.n);
+        let spacing = model.placement().rail_spacing_m;
+        let delta0 = -sigma * (model.half_spacing_m(side) - 0.5 * spacing);
+        let approach = -sigma * (delta - delta0);
+        let yaw = pose.frame.column(0).dot(&rail.frame.n).abs();
+        let reach = yaw * (2.0 * wheel.nominal_radius_m() * wheel.flange_depth_m()).sqrt();
+        Ok(approach + reach >= self.options.flange_clearance_m[si(side)] - margin)
+    }
+
+    /// Solve every piece of both wheels for `pose` (paper Fig. 8 step b),
+    /// keeping the surface parameters for the next call (step f).
+    pub fn solve(
+        &mut self,
+        model: &WheelsetContactModel,
+        track: &TrackTables,
+        pose: &WheelsetPose,
+    ) -> Result<WheelsetContacts, ContactError> {
+        let mut out = WheelsetContacts::default();
+        for side in Side::BOTH {
+            let l_now = track.centerline.rail_l(side, pose.s_track_m)?;
+            let flange = self.flange_needed(model, track, pose, side)?;
+            for (k, seg) in model.wheel(side).segments().iter().enumerate() {
+                if seg.zone == Zone::Flange && !flange {
+                    self.stats.flange_skipped += 1;
+                    continue;
+                }
+                let warm = &mut self.warm[si(side)][k];
+                let guess = warm.map(|w| SurfaceParams {
+                    s_rail_m: w.params.s_rail_m + (l_now - w.rail_l_m),
+                    ..w.params
+                });
+                let result = model.solve_pair(track, pose, side, k, guess, &self.options)?;
+                self.stats.solves += 1;
+                if let Some(c) = &result {
+                    if c.method == super::SolveMethod::Minimisation {
+                        self.stats.minimisations += 1;
+                    }
+                    self.stats.iterations += u64::from(c.iterations);
+                    if c.cold_start {
+                        self.stats.cold_starts += 1;
+                    }
+                    *warm = Some(Warm {
+                        params: c.params,
+                        rail_l_m: l_now,
+                        gap_m: -c.penetration_m,
+                    });
+                } else {
+                    *warm = None;
+                }
+                out.candidates[si(side)][k] = result;
+            }
+        }
+        Ok(out)
+    }
+}

@@ -1,1 +1,0 @@
-//! Profile file import (placeholder; being written).
