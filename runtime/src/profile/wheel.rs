@@ -198,12 +198,6 @@ impl WheelProfile {
             .iter()
             .map(|&x| windowed_curvature(&whole, x, u0, u1))
             .collect();
-        let not_convex = |region: &'static str, k: usize| ProfileError::NotConvex {
-            path: path.to_path_buf(),
-            region,
-            radius_mm: 1e3 / kappa[k].abs(),
-            y_file_mm: mapping.to_file(grid[k], 0.0).0 * 1e3,
-        };
         let (tip, tip_z) = zs
             .iter()
             .copied()
