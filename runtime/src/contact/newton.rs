@@ -12,7 +12,7 @@ use super::geometry::{Pair, PairEval};
 /// steps are scaled down to respect them.
 const MAX_STEP: [f64; 4] = [0.2, 0.005, 0.1, 0.005];
 /// Convergence: every component of the last step below these (m, m, rad, m).
-const STEP_TOL: [f64; 4] = [1e-9, 1e-11, 1e-11, 1e-11];
+const STEP_TOL: [f64; 4] = [1e-8, 1e-9, 1e-9, 1e-9];
 /// Residual accepted at convergence: |N·t| (–) and |d·t| (m).
 const RESIDUAL_TOL: f64 = 1e-9;
 /// Length scale weighting the distance equations in the merit function (m).

@@ -133,6 +133,35 @@ struct Warm {
     rail_l_m: f64,
     /// Gap (−δ) at that solve (m).
     gap_m: f64,
+    /// The solve before, for the linear predictor.
+    previous: Option<(SurfaceParams, f64)>,
+}
+
+/// Largest change of a lateral surface parameter the predictor may add (m).
+const MAX_PREDICTED_SHIFT_M: f64 = 0.002;
+
+impl Warm {
+    /// Starting point for the next solve at rail arc length `l_now`: the last
+    /// solution moved along the rail, plus the linear trend of the lateral
+    /// parameters over the last two solves (a first-order predictor, which
+    /// saves an iteration when the contact point travels across the profiles).
+    fn guess(&self, l_now: f64) -> SurfaceParams {
+        let mut g = SurfaceParams {
+            s_rail_m: self.params.s_rail_m + (l_now - self.rail_l_m),
+            ..self.params
+        };
+        if let Some((p0, l0)) = self.previous {
+            let dl = self.rail_l_m - l0;
+            if dl.abs() > 1e-9 {
+                let f = ((l_now - self.rail_l_m) / dl).clamp(-2.0, 2.0);
+                let lim = |d: f64| (f * d).clamp(-MAX_PREDICTED_SHIFT_M, MAX_PREDICTED_SHIFT_M);
+                g.u_rail_m += lim(self.params.u_rail_m - p0.u_rail_m);
+                g.u_wheel_m += lim(self.params.u_wheel_m - p0.u_wheel_m);
+                g.s_wheel_rad += f * (self.params.s_wheel_rad - p0.s_wheel_rad);
+            }
+        }
+        g
+    }
 }
 
 pub(crate) fn si(side: Side) -> usize {
@@ -222,10 +251,7 @@ impl ContactSolver {
                     continue;
                 }
                 let warm = &mut self.warm[si(side)][k];
-                let guess = warm.map(|w| SurfaceParams {
-                    s_rail_m: w.params.s_rail_m + (l_now - w.rail_l_m),
-                    ..w.params
-                });
+                let guess = warm.map(|w| w.guess(l_now));
                 let result = model.solve_pair(track, pose, side, k, guess, &self.options)?;
                 self.stats.solves += 1;
                 if let Some(c) = &result {
@@ -236,10 +262,14 @@ impl ContactSolver {
                     if c.cold_start {
                         self.stats.cold_starts += 1;
                     }
+                    let previous = warm
+                        .filter(|_| !c.cold_start)
+                        .map(|w| (w.params, w.rail_l_m));
                     *warm = Some(Warm {
                         params: c.params,
                         rail_l_m: l_now,
                         gap_m: -c.penetration_m,
+                        previous,
                     });
                 } else {
                     *warm = None;

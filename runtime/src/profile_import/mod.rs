@@ -56,7 +56,10 @@
 //! so later checks can name it too ([`ProfileFile::error_at`]).
 
 mod columns;
+mod load;
 mod simpack;
+
+pub use load::{ProfileLoadError, load_rail, load_wheel};
 
 pub use simpack::SimpackSettings;
 
