@@ -11,9 +11,17 @@
 //! /centerline/database      N×23 f64, attributes `columns`, `units`
 //! /left_rail/database       M×13 f64 (L x y z tx ty tz nx ny nz bx by bz)
 //! /right_rail/database      K×13 f64
+//! /contact_table/…          optional: the contact lookup table (see below)
+//! /contact_table/…          optional: the contact lookup table (see below)
 //! /input/command_line       string
 //! /input/<role>             string: the input file's text, attribute `path`
 //! ```
+//!
+//! A file may hold only `/contact_table` (`track-preproc contact-table`),
+//! only the track, or both (`track-preproc build --wheel … --rail …`).
+//!
+//! A file may hold only `/contact_table` (`track-preproc contact-table`),
+//! only the track, or both (`track-preproc build --wheel … --rail …`).
 //!
 //! Every table is a 2-D `f64` dataset whose `columns` attribute names its
 //! columns and whose `units` attribute gives each column's unit ("1" for
@@ -25,11 +33,16 @@
 //! directory, renamed into place only when complete ([`AtomicFile`]).
 
 mod atomic;
+mod attrs;
 mod columns;
+mod contact_table;
 mod track;
 
 pub use atomic::AtomicFile;
-pub use track::{TableFileWriter, read_provenance, read_track, write_track_file};
+pub use track::{
+    TableFileWriter, read_contact_table, read_provenance, read_track, write_contact_table_file,
+    write_track_file,
+};
 
 use std::path::PathBuf;
 

@@ -5,7 +5,8 @@ use std::path::{Path, PathBuf};
 use hdf5::types::VarLenUnicode;
 
 use super::columns::{read_table, to_vlu, write_table};
-use super::{AtomicFile, SCHEMA_VERSION, SchemaError};
+use super::{AtomicFile, SCHEMA_VERSION, SchemaError, attrs, contact_table};
+use crate::contact_table::ContactTable;
 use crate::track::{
     CENTERLINE_COLUMNS, CENTERLINE_UNITS, CenterlineRow, CenterlineTable, InputFile, Provenance,
     RAIL_COLUMNS, RAIL_UNITS, RailRow, RailTable, Side, TrackMeta, TrackTables,
@@ -55,30 +56,15 @@ impl TableFileWriter {
     }
 
     fn attr_u32(&self, name: &str, v: u32) -> Result<(), SchemaError> {
-        self.file
-            .new_attr::<u32>()
-            .shape(())
-            .create(name)
-            .and_then(|a| a.write_scalar(&v))
-            .map_err(self.err(&format!("writing attribute {name}")))
+        attrs::write_u32(self.atomic.dest_path(), &self.file, name, v)
     }
 
     fn attr_f64(&self, name: &str, v: f64) -> Result<(), SchemaError> {
-        self.file
-            .new_attr::<f64>()
-            .shape(())
-            .create(name)
-            .and_then(|a| a.write_scalar(&v))
-            .map_err(self.err(&format!("writing attribute {name}")))
+        attrs::write_f64(self.atomic.dest_path(), &self.file, name, v)
     }
 
     fn attr_str(&self, name: &str, v: &str) -> Result<(), SchemaError> {
-        self.file
-            .new_attr::<VarLenUnicode>()
-            .shape(())
-            .create(name)
-            .and_then(|a| a.write_scalar(&to_vlu(v)))
-            .map_err(self.err(&format!("writing attribute {name}")))
+        attrs::write_str(self.atomic.dest_path(), &self.file, name, v)
     }
 
     /// Write the centreline and both rail databases with the root attributes.
@@ -126,6 +112,11 @@ impl TableFileWriter {
             )?;
         }
         Ok(())
+    }
+
+    /// Write `/contact_table`.
+    pub fn write_contact_table(&self, table: &ContactTable) -> Result<(), SchemaError> {
+        contact_table::write(self.atomic.dest_path(), &self.file, table)
     }
 
     /// Write `/input`: the command line and the input files' text.
@@ -190,7 +181,7 @@ fn open_checked(path: &Path) -> Result<hdf5::File, SchemaError> {
         path: path.to_path_buf(),
         source,
     })?;
-    let found: u32 = read_attr(path, &file, "schema_version")?;
+    let found: u32 = attrs::read(path, &file, "the file", "schema_version")?;
     if found != SCHEMA_VERSION {
         return Err(SchemaError::UnsupportedVersion {
             path: path.to_path_buf(),
@@ -201,31 +192,12 @@ fn open_checked(path: &Path) -> Result<hdf5::File, SchemaError> {
     Ok(file)
 }
 
-/// A root attribute of any HDF5 type.
-fn read_attr<T: hdf5::H5Type>(
-    path: &Path,
-    file: &hdf5::File,
-    name: &str,
-) -> Result<T, SchemaError> {
-    file.attr(name)
-        .map_err(|_| SchemaError::Missing {
-            path: path.to_path_buf(),
-            what: format!("root attribute '{name}'"),
-        })?
-        .read_scalar()
-        .map_err(|source| SchemaError::Hdf5 {
-            path: path.to_path_buf(),
-            action: format!("reading attribute {name}"),
-            source,
-        })
-}
-
 fn read_attr_f64(path: &Path, file: &hdf5::File, name: &str) -> Result<f64, SchemaError> {
-    read_attr(path, file, name)
+    attrs::read_f64(path, file, "the file", name)
 }
 
 fn read_attr_str(path: &Path, file: &hdf5::File, name: &str) -> Result<String, SchemaError> {
-    read_attr::<VarLenUnicode>(path, file, name).map(|v| v.as_str().to_string())
+    attrs::read_str(path, file, "the file", name)
 }
 
 /// Load the track databases of a table file into memory.
@@ -307,4 +279,24 @@ pub fn read_provenance(path: &Path) -> Result<Provenance, SchemaError> {
         }
     }
     Ok(p)
+}
+
+/// Read the contact lookup table of a table file, if it has one.
+pub fn read_contact_table(path: &Path) -> Result<Option<ContactTable>, SchemaError> {
+    let file = open_checked(path)?;
+    contact_table::read(path, &file)
+}
+
+/// Write a file holding only a contact lookup table (and provenance).
+pub fn write_contact_table_file(
+    path: &Path,
+    table: &ContactTable,
+    provenance: &Provenance,
+) -> Result<(), SchemaError> {
+    let w = TableFileWriter::create(path)?;
+    w.attr_str("tool", &table.meta.source)?;
+    w.attr_str("tool_version", env!("CARGO_PKG_VERSION"))?;
+    w.write_contact_table(table)?;
+    w.write_provenance(provenance)?;
+    w.finish()
 }
