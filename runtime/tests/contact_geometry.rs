@@ -10,9 +10,7 @@ use runtime::contact::{
     ContactError, ContactOptions, ContactSolver, FlangeSearch, SolveMethod, WheelsetContactModel,
     WheelsetPose,
 };
-use runtime::profile::{
-    RailPlacement, RailProfile, RailProfileOptions, WheelProfile, WheelProfileOptions, Zone,
-};
+use runtime::profile::{RailPlacement, RailProfile, RailProfileOptions, WheelProfileOptions, Zone};
 use runtime::profile_import::{ImportOptions, load_rail, load_wheel};
 use runtime::track::{Side, TrackTables, straight_track};
 
