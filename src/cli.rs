@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 
 /// Railway vehicle dynamics on pre-processed track tables.
@@ -15,6 +15,8 @@ pub struct Cli {
 
 #[derive(Debug, Subcommand)]
 pub enum Command {
+    /// Contact of a wheelset at a prescribed pose on a straight track.
+    Contact(ContactArgs),
     /// Print both rails' interpolated position and frame at a centreline distance.
     Probe {
         /// Track table file written by `track-preproc build`.
@@ -29,9 +31,110 @@ pub enum Command {
     },
 }
 
+/// Arguments of `sim contact`.
+#[derive(Debug, clap::Args)]
+pub struct ContactArgs {
+    /// Wheel profile (SIMPACK .prw, two columns y z [mm], or CSV y_mm,z_mm).
+    #[arg(long, value_name = "FILE")]
+    pub wheel: PathBuf,
+    /// Rail profile (SIMPACK .prr, two columns, or CSV).
+    #[arg(long, value_name = "FILE")]
+    pub rail: PathBuf,
+    /// Track gauge [m] (between the gauge points, 14 mm below the top).
+    #[arg(long, default_value_t = 1.435, value_name = "M")]
+    pub gauge: f64,
+    /// Distance between the flange backs [m].
+    #[arg(long, default_value_t = 1.360, value_name = "M")]
+    pub back_to_back: f64,
+    /// Nominal rolling radius at the taping line [m].
+    #[arg(long, default_value_t = 0.46, value_name = "M")]
+    pub wheel_radius: f64,
+    /// Rail inclination towards the track centre: 1:40, 1:20, 0, …
+    #[arg(long, default_value = "0", value_name = "R")]
+    pub rail_inclination: String,
+    /// Lateral shift of the wheelset, positive to the left [mm].
+    #[arg(
+        long,
+        default_value_t = 0.0,
+        value_name = "Y",
+        allow_negative_numbers = true
+    )]
+    pub y_mm: f64,
+    /// Yaw of the wheelset, positive turning its nose left [mrad].
+    #[arg(
+        long,
+        default_value_t = 0.0,
+        value_name = "PSI",
+        allow_negative_numbers = true
+    )]
+    pub yaw_mrad: f64,
+    /// Vertical load per wheel [N] (Hertzian contact).
+    #[arg(long, default_value_t = 10_000.0, value_name = "N")]
+    pub wheel_load_n: f64,
+    /// Rigid contact instead (both wheels just touching).
+    #[arg(long)]
+    pub rigid: bool,
+    /// Young's modulus [Pa].
+    #[arg(long, default_value_t = 210e9, value_name = "E")]
+    pub young_pa: f64,
+    /// Poisson's ratio.
+    #[arg(long, default_value_t = 0.3, value_name = "NU")]
+    pub poisson: f64,
+    /// Spline scheme of the profile functions.
+    #[arg(long, default_value = "cubic", value_parser = ["cubic", "cubic-natural", "akima", "pchip"])]
+    pub profile_scheme: String,
+    /// Print JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+impl ContactArgs {
+    /// Second stage: checked settings.
+    pub fn to_config(&self) -> Result<preproc::contact_table::ContactTableConfig> {
+        use preproc::contact_table::{ContactTableConfig, TableSupport};
+        let inclination: preproc::Inclination = self
+            .rail_inclination
+            .parse()
+            .map_err(anyhow::Error::msg)
+            .context("--rail-inclination")?;
+        let config = ContactTableConfig {
+            wheel_profile: self.wheel.clone(),
+            rail_profile: self.rail.clone(),
+            profile_scheme: self.profile_scheme.parse()?,
+            wheel_radius_m: self.wheel_radius,
+            back_to_back_m: self.back_to_back,
+            gauge_m: self.gauge,
+            rail_spacing_m: self.gauge + 2.0 * preproc::config::DEFAULT_GAUGE_FACE_OFFSET_M,
+            rail_inclination_rad: inclination.angle_rad,
+            support: if self.rigid {
+                TableSupport::Rigid
+            } else {
+                TableSupport::Elastic {
+                    wheel_load_n: self.wheel_load_n,
+                    material: crate::contact::material(self.young_pa, self.poisson),
+                }
+            },
+            ..Default::default()
+        };
+        config.validate()?;
+        Ok(config)
+    }
+}
+
 /// Run the CLI.
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
+        Command::Contact(args) => {
+            let config = args.to_config()?;
+            let (case, _) =
+                crate::contact::contact_case(&config, args.y_mm * 1e-3, args.yaw_mrad * 1e-3)?;
+            if args.json {
+                println!("{}", serde_json::to_string_pretty(&case)?);
+            } else {
+                print!("{}", case.to_text());
+            }
+            Ok(())
+        }
         Command::Probe { file, s, json } => {
             let p = crate::probe::probe_file(&file, s)?;
             if json {

@@ -2,4 +2,5 @@
 //! the `runtime` library and the `preproc` pre-processor.
 
 pub mod cli;
+pub mod contact;
 pub mod probe;

@@ -9,8 +9,11 @@ use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use runtime::spline::Scheme;
 
+use runtime::hertz::Material;
+
 use crate::config::{BuildConfig, Inclination, RailSpacing};
-use crate::pipeline::{BuildRequest, run_build};
+use crate::contact_table::{ContactTableConfig, TableSupport};
+use crate::pipeline::{BuildRequest, ContactTableRequest, run_build, run_contact_table};
 use crate::progress::{Progress, ProgressSink};
 
 /// Offline track pre-processor: CSV control points → per-rail HDF5 databases.
@@ -23,8 +26,127 @@ pub struct Cli {
 
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Build the centreline and rail databases of a track.
+    /// Build the centreline and rail databases of a track (and, with --wheel
+    /// and --rail, the contact lookup table).
     Build(BuildArgs),
+    /// Build only the contact lookup table of a wheel/rail profile pair.
+    ContactTable(ContactTableArgs),
+}
+
+/// Profile pair and settings of a contact lookup table.
+#[derive(Debug, Args, Clone)]
+pub struct ContactArgs {
+    /// Wheel profile (SIMPACK .prw, two columns y z [mm], or CSV y_mm,z_mm).
+    #[arg(long, value_name = "FILE")]
+    pub wheel: Option<PathBuf>,
+    /// Rail profile (SIMPACK .prr, two columns, or CSV).
+    #[arg(long, value_name = "FILE")]
+    pub rail: Option<PathBuf>,
+    /// Distance between the flange backs [m].
+    #[arg(long, default_value_t = 1.360, value_name = "M")]
+    pub back_to_back: f64,
+    /// Nominal rolling radius at the taping line [m].
+    #[arg(long, default_value_t = 0.46, value_name = "M")]
+    pub wheel_radius: f64,
+    /// Vertical load per wheel for the elastic (Hertzian) table [N].
+    #[arg(long, value_name = "N", default_value_t = crate::contact_table::DEFAULT_WHEEL_LOAD_N)]
+    pub wheel_load_n: f64,
+    /// Rigid contact instead of elastic (both wheels just touching).
+    #[arg(long)]
+    pub rigid: bool,
+    /// Young's modulus of wheel and rail [Pa].
+    #[arg(long, default_value_t = 210e9, value_name = "PA")]
+    pub young_pa: f64,
+    /// Poisson's ratio of wheel and rail.
+    #[arg(long, default_value_t = 0.3, value_name = "NU")]
+    pub poisson: f64,
+    /// Lateral shifts from −A to +A [mm].
+    #[arg(long, default_value_t = 15.0, value_name = "A")]
+    pub y_range_mm: f64,
+    /// Step of the lateral shifts [mm].
+    #[arg(long, default_value_t = 0.1, value_name = "S")]
+    pub y_step_mm: f64,
+    /// Yaw angles of the table [mrad], comma-separated (default: 0 only).
+    #[arg(
+        long,
+        value_name = "LIST",
+        value_delimiter = ',',
+        allow_negative_numbers = true
+    )]
+    pub yaw_mrad: Vec<f64>,
+    /// Spline scheme of the profile functions.
+    #[arg(long, default_value = "cubic", value_parser = ["cubic", "cubic-natural", "akima", "pchip"])]
+    pub profile_scheme: String,
+    /// Write plots (Δr(y), contact points on the profiles) into this directory.
+    #[arg(long, value_name = "DIR")]
+    pub plots: Option<PathBuf>,
+}
+
+impl ContactArgs {
+    /// The contact-table settings, when both profiles are given.
+    pub fn to_config(&self) -> Result<Option<ContactTableConfig>> {
+        let (wheel, rail) = match (&self.wheel, &self.rail) {
+            (None, None) => return Ok(None),
+            (Some(w), Some(r)) => (w.clone(), r.clone()),
+            _ => anyhow::bail!("--wheel and --rail go together: give both profiles or neither"),
+        };
+        let mut yaw: Vec<f64> = self.yaw_mrad.iter().map(|m| m * 1e-3).collect();
+        if yaw.is_empty() {
+            yaw.push(0.0);
+        }
+        yaw.sort_by(f64::total_cmp);
+        let config = ContactTableConfig {
+            wheel_profile: wheel,
+            rail_profile: rail,
+            profile_scheme: self.profile_scheme.parse()?,
+            wheel_radius_m: self.wheel_radius,
+            back_to_back_m: self.back_to_back,
+            y_min_m: -self.y_range_mm * 1e-3,
+            y_max_m: self.y_range_mm * 1e-3,
+            y_step_m: self.y_step_mm * 1e-3,
+            yaw_rad: yaw,
+            support: if self.rigid {
+                TableSupport::Rigid
+            } else {
+                TableSupport::Elastic {
+                    wheel_load_n: self.wheel_load_n,
+                    material: Material {
+                        young_pa: self.young_pa,
+                        poisson: self.poisson,
+                    },
+                }
+            },
+            ..Default::default()
+        };
+        config.validate()?;
+        Ok(Some(config))
+    }
+}
+
+/// Arguments of `track-preproc contact-table`.
+#[derive(Debug, Args)]
+pub struct ContactTableArgs {
+    #[command(flatten)]
+    pub contact: ContactArgs,
+    /// Track gauge [m].
+    #[arg(long, default_value_t = crate::config::DEFAULT_GAUGE_M, value_name = "M")]
+    pub gauge: f64,
+    /// Distance between the rail profile origins [m] (default: gauge + 2 × gauge-face offset).
+    #[arg(long, value_name = "M")]
+    pub rail_spacing: Option<f64>,
+    /// Lateral offset of the gauge face from the rail profile origin [m].
+    #[arg(long, default_value_t = crate::config::DEFAULT_GAUGE_FACE_OFFSET_M, value_name = "M")]
+    pub gauge_face_offset: f64,
+    /// Rail inclination towards the track centre: 1:40, 1:20, 0, … (0 for
+    /// profiles that already carry it, like MBench_UIC60_v3.prr).
+    #[arg(long, default_value = "1:40", value_name = "R")]
+    pub rail_inclination: String,
+    /// Output file (.h5), written atomically.
+    #[arg(short, long, value_name = "OUT.h5")]
+    pub output: PathBuf,
+    /// Print the summary as JSON.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// Arguments of `track-preproc build`.
@@ -67,6 +189,8 @@ pub struct BuildArgs {
     /// Print the summary as JSON.
     #[arg(long)]
     pub json: bool,
+    #[command(flatten)]
+    pub contact: ContactArgs,
 }
 
 impl BuildArgs {
@@ -93,6 +217,7 @@ impl BuildArgs {
         };
         config.validate()?;
         Ok(BuildRequest {
+            contact: self.contact.to_config()?,
             centerline: self.centerline.clone(),
             cant: self.cant.clone(),
             irregularities: self.irregularities.clone(),
@@ -171,10 +296,60 @@ pub fn run(cli: Cli) -> Result<()> {
             let summary = run_build(&req, &sink)
                 .with_context(|| format!("building {} failed", req.output.display()))?;
             sink.event(Progress::Done);
+            if let (Some(dir), Some(_)) = (&args.contact.plots, &req.contact) {
+                let table = runtime::schema::read_contact_table(&req.output)?
+                    .context("the contact table just written is missing")?;
+                crate::contact_plots::write_contact_plots(dir, &table)
+                    .with_context(|| format!("writing plots into {}", dir.display()))?;
+            }
             if args.json {
                 println!("{}", serde_json::to_string_pretty(&summary)?);
             } else {
                 print!("{}", summary.to_text());
+            }
+            Ok(())
+        }
+        Command::ContactTable(args) => {
+            let inclination: Inclination = args
+                .rail_inclination
+                .parse()
+                .map_err(anyhow::Error::msg)
+                .context("--rail-inclination")?;
+            let spacing = args
+                .rail_spacing
+                .unwrap_or(args.gauge + 2.0 * args.gauge_face_offset);
+            let config = args
+                .contact
+                .to_config()?
+                .context("contact-table needs --wheel and --rail")?;
+            let config = ContactTableConfig {
+                gauge_m: args.gauge,
+                rail_spacing_m: spacing,
+                rail_inclination_rad: inclination.angle_rad,
+                ..config
+            };
+            let req = ContactTableRequest {
+                config,
+                output: args.output.clone(),
+                command_line: command_line(),
+            };
+            let sink = BarSink::new();
+            let (table, report) = run_contact_table(&req, &sink)
+                .with_context(|| format!("building {} failed", req.output.display()))?;
+            sink.event(Progress::Done);
+            if let Some(dir) = &args.contact.plots {
+                crate::contact_plots::write_contact_plots(dir, &table)
+                    .with_context(|| format!("writing plots into {}", dir.display()))?;
+            }
+            if args.json {
+                println!("{}", serde_json::to_string_pretty(&report)?);
+            } else {
+                print!(
+                    "wrote {}\n{}  time              {:.3} s\n",
+                    report.output,
+                    report.contact_table.to_text(),
+                    report.elapsed_s
+                );
             }
             Ok(())
         }

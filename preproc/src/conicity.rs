@@ -854,6 +854,15 @@ impl ConicitySummary {
         Self::at_amplitudes_mm(dr, &SUMMARY_AMPLITUDES_MM)
     }
 
+    /// No values (a Δr function that could not be formed).
+    pub fn empty() -> Self {
+        Self {
+            amplitude_mm: SUMMARY_AMPLITUDES_MM.to_vec(),
+            tan_gamma_e: vec![None; SUMMARY_AMPLITUDES_MM.len()],
+            max_amplitude_mm: None,
+        }
+    }
+
     /// At the given amplitudes (mm).
     pub fn at_amplitudes_mm(dr: &DeltaRFunction, amplitudes_mm: &[f64]) -> Self {
         let amplitudes_m: Vec<f64> = amplitudes_mm.iter().map(|a| a * 1e-3).collect();

@@ -68,4 +68,6 @@ pub enum BuildError {
     },
     #[error(transparent)]
     Write(#[from] runtime::schema::SchemaError),
+    #[error(transparent)]
+    ContactTable(#[from] crate::contact_table::ContactTableBuildError),
 }

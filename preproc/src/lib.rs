@@ -12,12 +12,15 @@ pub mod centerline;
 pub mod cli;
 pub mod config;
 pub mod conicity;
+pub mod contact_plots;
+pub mod contact_table;
 pub mod csv;
 pub mod error;
 pub mod inputs;
 pub mod irregularity;
 pub mod model;
 pub mod pipeline;
+pub mod plot;
 pub mod progress;
 pub mod rails;
 pub mod space_curve;
@@ -26,6 +29,9 @@ pub mod summary;
 pub use config::{BuildConfig, Inclination, RailSpacing};
 pub use error::{BuildError, InputError};
 pub use model::{TrackInputs, TrackModel};
-pub use pipeline::{BuildRequest, build_tables, run_build};
+pub use pipeline::{
+    BuildRequest, ContactTableReport, ContactTableRequest, build_tables, run_build,
+    run_contact_table,
+};
 pub use progress::{NoProgress, Progress, ProgressSink};
 pub use summary::BuildSummary;

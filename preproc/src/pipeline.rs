@@ -9,11 +9,12 @@ use runtime::schema;
 use runtime::track::{InputFile, Provenance, TrackTables};
 
 use crate::config::BuildConfig;
+use crate::contact_table::{ContactTableConfig, build_contact_table, conicity_of};
 use crate::error::BuildError;
 use crate::inputs::{CantInput, CenterlineInput, IrregularityInput};
 use crate::model::{TrackInputs, TrackModel};
 use crate::progress::{Progress, ProgressSink};
-use crate::summary::BuildSummary;
+use crate::summary::{BuildSummary, ContactTableSummary};
 
 /// Everything a build needs.
 #[derive(Debug, Clone, PartialEq)]
@@ -23,6 +24,9 @@ pub struct BuildRequest {
     pub irregularities: Option<PathBuf>,
     pub output: PathBuf,
     pub config: BuildConfig,
+    /// Build a contact lookup table too (SPEC §4) with these settings; its
+    /// gauge, rail spacing and inclination are the track's.
+    pub contact: Option<ContactTableConfig>,
     /// Recorded under `/input/command_line`.
     pub command_line: String,
 }
@@ -94,22 +98,98 @@ pub fn build_tables(
     ))
 }
 
+/// Read the profile files of a contact table, for provenance.
+fn profile_inputs(c: &ContactTableConfig) -> Result<Vec<InputFile>, BuildError> {
+    crate::contact_table::profile_paths(c)
+        .into_iter()
+        .map(|(role, path)| {
+            Ok(InputFile {
+                role: role.into(),
+                path: path.display().to_string(),
+                text: read(path)?,
+            })
+        })
+        .collect()
+}
+
 /// Build and write the table file of a request; returns the summary.
 pub fn run_build(
     req: &BuildRequest,
     progress: &dyn ProgressSink,
 ) -> Result<BuildSummary, BuildError> {
     let start = Instant::now();
-    let (tables, provenance) = build_tables(req, progress)?;
+    let (tables, mut provenance) = build_tables(req, progress)?;
+    let contact = match &req.contact {
+        Some(c) => {
+            let c = ContactTableConfig {
+                gauge_m: req.config.gauge_m,
+                rail_spacing_m: req.config.rail_spacing_m(),
+                rail_inclination_rad: req.config.inclination.angle_rad,
+                ..c.clone()
+            };
+            provenance.inputs.extend(profile_inputs(&c)?);
+            let model = c.model()?;
+            Some(build_contact_table(&model, &c, progress)?)
+        }
+        None => None,
+    };
     progress.event(Progress::Stage {
         name: "writing",
         rows: 0,
     });
-    schema::write_track_file(&req.output, &tables, &provenance)?;
+    let w = schema::TableFileWriter::create(&req.output)?;
+    w.write_track(&tables)?;
+    if let Some(t) = &contact {
+        w.write_contact_table(t)?;
+    }
+    w.write_provenance(&provenance)?;
+    w.finish()?;
     progress.event(Progress::Done);
-    Ok(BuildSummary::new(
+    let mut summary = BuildSummary::new(
         &tables,
         &req.output.display().to_string(),
         start.elapsed().as_secs_f64(),
-    ))
+    );
+    summary.contact_table = contact
+        .as_ref()
+        .map(|t| ContactTableSummary::new(t, conicity_of(t)));
+    Ok(summary)
+}
+
+/// A contact table on its own (`track-preproc contact-table`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactTableRequest {
+    pub config: ContactTableConfig,
+    pub output: PathBuf,
+    pub command_line: String,
+}
+
+/// What `track-preproc contact-table` produced.
+#[derive(Debug, Clone, serde::Serialize, PartialEq)]
+pub struct ContactTableReport {
+    pub output: String,
+    pub contact_table: ContactTableSummary,
+    pub elapsed_s: f64,
+}
+
+/// Build a contact table and write it to a file of its own.
+pub fn run_contact_table(
+    req: &ContactTableRequest,
+    progress: &dyn ProgressSink,
+) -> Result<(runtime::contact_table::ContactTable, ContactTableReport), BuildError> {
+    let start = Instant::now();
+    let model = req.config.model()?;
+    let table = build_contact_table(&model, &req.config, progress)?;
+    let provenance = Provenance {
+        command_line: req.command_line.clone(),
+        inputs: profile_inputs(&req.config)?,
+    };
+    schema::write_contact_table_file(&req.output, &table, &provenance)?;
+    progress.event(Progress::Done);
+    let report = ContactTableReport {
+        output: req.output.display().to_string(),
+        contact_table: ContactTableSummary::new(&table, conicity_of(&table)),
+        elapsed_s: start.elapsed().as_secs_f64(),
+    };
+    Ok((table, report))
 }

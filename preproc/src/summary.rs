@@ -1,7 +1,10 @@
 //! The short report printed after a build (text, or JSON with `--json`).
 
+use runtime::contact_table::ContactTable;
 use runtime::track::TrackTables;
 use serde::Serialize;
+
+use crate::conicity::ConicitySummary;
 
 /// Rows of each table.
 #[derive(Debug, Clone, Serialize, PartialEq)]
@@ -35,8 +38,95 @@ pub struct BuildSummary {
     pub max_cant_mm: f64,
     /// Largest |irregularity| over the four components (m).
     pub max_irregularity_m: f64,
+    /// The contact lookup table, when profiles were given.
+    pub contact_table: Option<ContactTableSummary>,
     /// Wall time of the build including writing (s).
     pub elapsed_s: f64,
+}
+
+/// What a contact table holds.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct ContactTableSummary {
+    pub wheel_profile: String,
+    pub rail_profile: String,
+    /// "rigid" or "elastic", and the load per wheel (N).
+    pub support: String,
+    pub wheel_load_n: f64,
+    /// Rows (lateral shifts × yaws) and the lateral range (mm).
+    pub rows: usize,
+    pub y_min_mm: f64,
+    pub y_max_mm: f64,
+    pub yaw_count: usize,
+    /// Lateral shift at which each flange first carries load (mm), from the
+    /// zero-yaw column: left flange (y > 0), right flange (y < 0).
+    pub flange_contact_left_mm: Option<f64>,
+    pub flange_contact_right_mm: Option<f64>,
+    /// EN 15302 equivalent conicity at 1…6 mm.
+    pub conicity: ConicitySummary,
+}
+
+impl ContactTableSummary {
+    /// Summarise a table with its conicity.
+    pub fn new(table: &ContactTable, conicity: ConicitySummary) -> Self {
+        let j = table.zero_yaw_index();
+        let flange_at = |wheel: usize, sign: f64| {
+            let mut idx: Vec<usize> = (0..table.y_m.len())
+                .filter(|&i| table.y_m[i] * sign >= 0.0)
+                .collect();
+            idx.sort_by(|&a, &b| table.y_m[a].abs().total_cmp(&table.y_m[b].abs()));
+            idx.into_iter()
+                .find(|&i| {
+                    table.row(i, j).zones[wheel][1].is_some_and(|z| z.penetration_m >= -1e-7)
+                })
+                .map(|i| table.y_m[i] * 1e3)
+        };
+        Self {
+            wheel_profile: table.meta.wheel_profile.clone(),
+            rail_profile: table.meta.rail_profile.clone(),
+            support: table.meta.support.clone(),
+            wheel_load_n: table.meta.wheel_load_n,
+            rows: table.rows.len(),
+            y_min_mm: table.y_m[0] * 1e3,
+            y_max_mm: table.y_m[table.y_m.len() - 1] * 1e3,
+            yaw_count: table.yaw_rad.len(),
+            flange_contact_left_mm: flange_at(0, 1.0),
+            flange_contact_right_mm: flange_at(1, -1.0),
+            conicity,
+        }
+    }
+
+    /// Human-readable lines.
+    pub fn to_text(&self) -> String {
+        let mm = |v: Option<f64>| v.map_or("none".to_string(), |v| format!("{v:+.1} mm"));
+        let con: Vec<String> = self
+            .conicity
+            .amplitude_mm
+            .iter()
+            .zip(&self.conicity.tan_gamma_e)
+            .map(|(a, t)| match t {
+                Some(t) => format!("{a:.0} mm: {t:.3}"),
+                None => format!("{a:.0} mm: –"),
+            })
+            .collect();
+        format!(
+            "  contact table     {} rows ({} yaw), y {:+.1} … {:+.1} mm, {}{}\n  profiles          {} on {}\n  flange contact    left at {}, right at {}\n  conicity tanγe    {}\n",
+            self.rows,
+            self.yaw_count,
+            self.y_min_mm,
+            self.y_max_mm,
+            self.support,
+            if self.support == "elastic" {
+                format!(", {:.0} N per wheel", self.wheel_load_n)
+            } else {
+                String::new()
+            },
+            self.wheel_profile,
+            self.rail_profile,
+            mm(self.flange_contact_left_mm),
+            mm(self.flange_contact_right_mm),
+            con.join(", ")
+        )
+    }
 }
 
 /// Curvature below which a track counts as straight (1/m): radius 1e6 m.
@@ -72,6 +162,7 @@ impl BuildSummary {
             max_cant_rad: max_cant,
             max_cant_mm: tables.meta.cant_base_m * max_cant.sin() * 1e3,
             max_irregularity_m: max_irr,
+            contact_table: None,
             elapsed_s,
         }
     }
@@ -82,8 +173,13 @@ impl BuildSummary {
             Some(r) => format!("{r:.1} m"),
             None => "straight (no curvature)".into(),
         };
+        let contact = self
+            .contact_table
+            .as_ref()
+            .map(ContactTableSummary::to_text)
+            .unwrap_or_default();
         format!(
-            "wrote {}\n  length            {:.3} m (rails: left {:.3} m, right {:.3} m)\n  scheme, step      {}, {} m\n  rows              centerline {}, left rail {}, right rail {}\n  min curve radius  {radius}\n  max cant          {:.4} rad ({:.1} mm)\n  max irregularity  {:.2} mm\n  time              {:.3} s\n",
+            "wrote {}\n  length            {:.3} m (rails: left {:.3} m, right {:.3} m)\n  scheme, step      {}, {} m\n  rows              centerline {}, left rail {}, right rail {}\n  min curve radius  {radius}\n  max cant          {:.4} rad ({:.1} mm)\n  max irregularity  {:.2} mm\n{contact}  time              {:.3} s\n",
             self.output,
             self.length_m,
             self.left_rail_length_m,

@@ -60,7 +60,11 @@ fn row_values(r: &ContactTableRow) -> Vec<f64> {
 }
 
 /// Write `table` as `/contact_table` of `file`.
-pub(super) fn write(path: &Path, file: &hdf5::File, table: &ContactTable) -> Result<(), SchemaError> {
+pub(super) fn write(
+    path: &Path,
+    file: &hdf5::File,
+    table: &ContactTable,
+) -> Result<(), SchemaError> {
     let hdf = |action: &str| {
         let action = action.to_string();
         move |source| SchemaError::Hdf5 {
@@ -69,7 +73,9 @@ pub(super) fn write(path: &Path, file: &hdf5::File, table: &ContactTable) -> Res
             source,
         }
     };
-    let g = file.create_group(GROUP).map_err(hdf("creating /contact_table"))?;
+    let g = file
+        .create_group(GROUP)
+        .map_err(hdf("creating /contact_table"))?;
     let m = &table.meta;
     attrs::write_str(path, &g, "wheel_profile", &m.wheel_profile)?;
     attrs::write_str(path, &g, "rail_profile", &m.rail_profile)?;
@@ -89,7 +95,15 @@ pub(super) fn write(path: &Path, file: &hdf5::File, table: &ContactTable) -> Res
     let (names, units) = column_names();
     let names: Vec<&str> = names.iter().map(String::as_str).collect();
     let units: Vec<&str> = units.iter().map(String::as_str).collect();
-    write_table(path, &g, "database", &names, &units, &table.rows, row_values)?;
+    write_table(
+        path,
+        &g,
+        "database",
+        &names,
+        &units,
+        &table.rows,
+        row_values,
+    )?;
     for (name, grid, unit) in [("y", &table.y_m, "m"), ("yaw", &table.yaw_rad, "rad")] {
         let ds = g
             .new_dataset_builder()

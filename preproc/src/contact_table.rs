@@ -1,0 +1,393 @@
+//! Building the contact lookup table of a wheel/rail profile pair (SPEC §4):
+//! the wheelset settled on straight track at every lateral shift (and yaw)
+//! of a grid — rigidly, or elastically under a wheel load — with its contact
+//! points, radii, angles, penetrations, curvatures, roll and height, the
+//! rolling radius difference Δr(y), and its EN 15302 equivalent conicity.
+
+use std::path::{Path, PathBuf};
+
+use rayon::prelude::*;
+use runtime::contact::quasi_static::{Settled, Support, settle};
+use runtime::contact::{
+    Candidate, ContactError, ContactOptions, ContactSolver, FlangeSearch, WheelsetContactModel,
+};
+use runtime::contact_table::{
+    ConicityTable, ContactTable, ContactTableMeta, ContactTableRow, ZoneEntry,
+};
+use runtime::hertz::Material;
+use runtime::profile::{RailPlacement, RailProfileOptions, WheelProfileOptions, Zone};
+use runtime::profile_import::{ImportOptions, ProfileLoadError, load_rail, load_wheel};
+use runtime::spline::Scheme;
+use runtime::track::{Side, straight_track};
+
+use crate::conicity::{ConicitySummary, DeltaRFunction};
+use crate::progress::{Progress, ProgressSink};
+
+/// Default vertical load per wheel for elastic tables (N): a 10 t axle.
+pub const DEFAULT_WHEEL_LOAD_N: f64 = 49_050.0;
+
+/// How the wheelset rests in the table.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum TableSupport {
+    /// Rigid contact: both wheels just touch.
+    Rigid,
+    /// Hertzian contact, each wheel carrying `wheel_load_n` vertically.
+    Elastic {
+        wheel_load_n: f64,
+        material: Material,
+    },
+}
+
+/// What a contact table is built from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactTableConfig {
+    /// Wheel and rail profile files (SIMPACK, plain columns or CSV).
+    pub wheel_profile: PathBuf,
+    pub rail_profile: PathBuf,
+    /// Spline scheme of the profile functions.
+    pub profile_scheme: Scheme,
+    /// Nominal rolling radius at the taping line (m).
+    pub wheel_radius_m: f64,
+    /// A different right wheel (profile and/or radius; EN 15302 cases E5–E9);
+    /// `None` = the same as the left.
+    pub right_wheel_profile: Option<PathBuf>,
+    pub right_wheel_radius_m: Option<f64>,
+    /// Back-to-back distance of the wheels (m).
+    pub back_to_back_m: f64,
+    /// Track gauge (m), rail spacing (m), rail inclination (rad).
+    pub gauge_m: f64,
+    pub rail_spacing_m: f64,
+    pub rail_inclination_rad: f64,
+    /// Lateral shifts: from `y_min_m` to `y_max_m` every `y_step_m` (m).
+    pub y_min_m: f64,
+    pub y_max_m: f64,
+    pub y_step_m: f64,
+    /// Yaw angles (rad); `[0]` for the classic table.
+    pub yaw_rad: Vec<f64>,
+    pub support: TableSupport,
+}
+
+impl Default for ContactTableConfig {
+    fn default() -> Self {
+        Self {
+            wheel_profile: PathBuf::new(),
+            rail_profile: PathBuf::new(),
+            profile_scheme: Scheme::Cubic,
+            wheel_radius_m: 0.46,
+            right_wheel_profile: None,
+            right_wheel_radius_m: None,
+            back_to_back_m: 1.360,
+            gauge_m: 1.435,
+            rail_spacing_m: 1.507,
+            rail_inclination_rad: 0.0,
+            y_min_m: -0.015,
+            y_max_m: 0.015,
+            y_step_m: 1e-4,
+            yaw_rad: vec![0.0],
+            support: TableSupport::Elastic {
+                wheel_load_n: DEFAULT_WHEEL_LOAD_N,
+                material: Material::default(),
+            },
+        }
+    }
+}
+
+/// Why a contact table could not be built.
+#[derive(Debug, thiserror::Error)]
+pub enum ContactTableBuildError {
+    #[error("invalid contact-table option: {0}")]
+    Config(String),
+    #[error(transparent)]
+    Profile(#[from] ProfileLoadError),
+    #[error("{0}")]
+    Model(String),
+    #[error(
+        "the wheelset cannot be settled at y = {y_mm:.2} mm, yaw = {yaw_mrad:.1} mrad: {source}"
+    )]
+    Settle {
+        y_mm: f64,
+        yaw_mrad: f64,
+        #[source]
+        source: ContactError,
+    },
+}
+
+impl ContactTableConfig {
+    /// Check every rule; the message names the option.
+    pub fn validate(&self) -> Result<(), ContactTableBuildError> {
+        let fail = |m: String| Err(ContactTableBuildError::Config(m));
+        if !(self.wheel_radius_m > 0.1 && self.wheel_radius_m < 1.5) {
+            return fail(format!(
+                "--wheel-radius {} m must lie in 0.1 … 1.5 m",
+                self.wheel_radius_m
+            ));
+        }
+        if !(self.back_to_back_m > 0.5 && self.back_to_back_m < 2.5) {
+            return fail(format!(
+                "--back-to-back {} m must lie in 0.5 … 2.5 m",
+                self.back_to_back_m
+            ));
+        }
+        if !(self.y_step_m > 0.0 && self.y_step_m <= 0.005) {
+            return fail(format!(
+                "--y-step {} m must lie in (0, 5 mm]",
+                self.y_step_m
+            ));
+        }
+        if !(self.y_min_m < 0.0 && self.y_max_m > 0.0 && self.y_max_m - self.y_min_m <= 0.1) {
+            return fail(format!(
+                "the lateral range {} … {} m must contain 0 and span at most 100 mm",
+                self.y_min_m, self.y_max_m
+            ));
+        }
+        if self.yaw_rad.is_empty()
+            || self.yaw_rad.iter().any(|y| !y.is_finite() || y.abs() > 0.1)
+            || !self.yaw_rad.windows(2).all(|w| w[1] > w[0])
+        {
+            return fail("yaw angles must be increasing and within ±100 mrad".into());
+        }
+        if let TableSupport::Elastic {
+            wheel_load_n,
+            material,
+        } = self.support
+        {
+            if !(wheel_load_n > 0.0 && wheel_load_n < 1e6) {
+                return fail(format!(
+                    "--wheel-load-n {wheel_load_n} must lie in (0, 1e6) N"
+                ));
+            }
+            material
+                .validate()
+                .map_err(|e| ContactTableBuildError::Config(e.to_string()))?;
+        }
+        Ok(())
+    }
+
+    /// The lateral grid (m), symmetric about 0 when the range is.
+    pub fn y_grid(&self) -> Vec<f64> {
+        let lo = (self.y_min_m / self.y_step_m - 1e-9).ceil() as i64;
+        let hi = (self.y_max_m / self.y_step_m + 1e-9).floor() as i64;
+        (lo..=hi).map(|k| k as f64 * self.y_step_m).collect()
+    }
+
+    /// Load the profiles and assemble the wheelset's contact model.
+    pub fn model(&self) -> Result<WheelsetContactModel, ContactTableBuildError> {
+        let wheel = |path: &Path, radius: f64| {
+            load_wheel(
+                path,
+                &ImportOptions::default(),
+                WheelProfileOptions {
+                    scheme: self.profile_scheme,
+                    nominal_radius_m: radius,
+                    ..Default::default()
+                },
+            )
+        };
+        let left = wheel(&self.wheel_profile, self.wheel_radius_m)?;
+        let right = wheel(
+            self.right_wheel_profile
+                .as_deref()
+                .unwrap_or(&self.wheel_profile),
+            self.right_wheel_radius_m.unwrap_or(self.wheel_radius_m),
+        )?;
+        let rail = load_rail(
+            &self.rail_profile,
+            &ImportOptions::default(),
+            RailProfileOptions {
+                scheme: self.profile_scheme,
+                ..Default::default()
+            },
+        )?;
+        WheelsetContactModel::new(
+            left,
+            right,
+            self.back_to_back_m,
+            &rail,
+            &rail,
+            RailPlacement {
+                gauge_m: self.gauge_m,
+                rail_spacing_m: self.rail_spacing_m,
+                inclination_rad: self.rail_inclination_rad,
+            },
+        )
+        .map_err(|e| ContactTableBuildError::Model(e.to_string()))
+    }
+}
+
+/// The entry of a candidate, with its normal force.
+fn entry(c: &Candidate, normal_force_n: f64) -> ZoneEntry {
+    ZoneEntry {
+        y_wheel_m: c.wheel_profile_point_m.0,
+        z_wheel_m: c.wheel_profile_point_m.1,
+        y_rail_m: c.rail_profile_point_m.0,
+        z_rail_m: c.rail_profile_point_m.1,
+        rolling_radius_m: c.rolling_radius_m,
+        contact_angle_rad: c.contact_angle_rad,
+        penetration_m: c.penetration_m,
+        wheel_rolling_curvature_1_m: c.curvatures.wheel_rolling_1_m,
+        wheel_lateral_curvature_1_m: c.curvatures.wheel_lateral_1_m,
+        rail_rolling_curvature_1_m: c.curvatures.rail_rolling_1_m,
+        rail_lateral_curvature_1_m: c.curvatures.rail_lateral_1_m,
+        normal_force_n,
+        s_wheel_rad: c.params.s_wheel_rad,
+        lead_m: c.lead_m(),
+    }
+}
+
+/// A table row from a settled wheelset: per wheel and zone, the candidate
+/// carrying the most load (elastic) or the deepest (rigid).
+fn row(y_m: f64, yaw_rad: f64, st: &Settled) -> ContactTableRow {
+    let mut zones = [[None; 2]; 2];
+    for (w, side) in Side::BOTH.into_iter().enumerate() {
+        for (z, zone) in Zone::BOTH.into_iter().enumerate() {
+            let best = st.contacts.candidates[w]
+                .iter()
+                .zip(&st.normal_force_n[w])
+                .filter_map(|(c, f)| c.as_ref().map(|c| (c, *f)))
+                .filter(|(c, _)| c.zone == zone && c.side == side)
+                .max_by(|a, b| {
+                    a.1.total_cmp(&b.1)
+                        .then(a.0.penetration_m.total_cmp(&b.0.penetration_m))
+                });
+            zones[w][z] = best.map(|(c, f)| entry(c, f));
+        }
+    }
+    ContactTableRow {
+        y_m,
+        yaw_rad,
+        height_m: st.height_m,
+        roll_rad: st.roll_rad,
+        delta_r_m: st.rolling_radius_difference_m().unwrap_or(f64::NAN),
+        zones,
+    }
+}
+
+/// Build the table for `model` (see [`ContactTableConfig::model`]).
+pub fn build_contact_table(
+    model: &WheelsetContactModel,
+    config: &ContactTableConfig,
+    progress: &dyn ProgressSink,
+) -> Result<ContactTable, ContactTableBuildError> {
+    config.validate()?;
+    let y = config.y_grid();
+    let zero = y
+        .iter()
+        .position(|v| v.abs() < 0.5 * config.y_step_m)
+        .ok_or_else(|| ContactTableBuildError::Config("the lateral grid misses y = 0".into()))?;
+    let track = straight_track(
+        4.0,
+        0.1,
+        config.gauge_m,
+        config.rail_spacing_m,
+        config.rail_inclination_rad,
+    );
+    let support = match config.support {
+        TableSupport::Rigid => Support::Rigid,
+        TableSupport::Elastic {
+            wheel_load_n,
+            material,
+        } => Support::Elastic {
+            load_per_wheel_n: wheel_load_n,
+            material,
+        },
+    };
+    progress.event(Progress::Stage {
+        name: "contact table",
+        rows: (y.len() * config.yaw_rad.len()) as u64,
+    });
+    // Each yaw is a continuation from y = 0 outwards, in both directions.
+    let columns: Vec<Vec<ContactTableRow>> = config
+        .yaw_rad
+        .par_iter()
+        .map(|&yaw| {
+            let mut col = vec![ContactTableRow::default(); y.len()];
+            let directions: [Vec<usize>; 2] =
+                [(zero..y.len()).collect(), (0..=zero).rev().collect()];
+            for order in directions {
+                let mut solver = ContactSolver::new(ContactOptions {
+                    flange: FlangeSearch::On,
+                    ..Default::default()
+                });
+                for i in order {
+                    let st = settle(model, &track, 2.0, y[i], yaw, support, &mut solver).map_err(
+                        |source| ContactTableBuildError::Settle {
+                            y_mm: y[i] * 1e3,
+                            yaw_mrad: yaw * 1e3,
+                            source,
+                        },
+                    )?;
+                    col[i] = row(y[i], yaw, &st);
+                    progress.event(Progress::Rows(1));
+                }
+            }
+            Ok(col)
+        })
+        .collect::<Result<_, ContactTableBuildError>>()?;
+    let n_yaw = config.yaw_rad.len();
+    let rows = (0..y.len())
+        .flat_map(|i| columns.iter().map(move |c| c[i]).collect::<Vec<_>>())
+        .collect::<Vec<_>>();
+    debug_assert_eq!(rows.len(), y.len() * n_yaw);
+    let (material, load) = match config.support {
+        TableSupport::Rigid => (Material::default(), 0.0),
+        TableSupport::Elastic {
+            wheel_load_n,
+            material,
+        } => (material, wheel_load_n),
+    };
+    let mut table = ContactTable {
+        meta: ContactTableMeta {
+            wheel_profile: config.wheel_profile.display().to_string(),
+            rail_profile: config.rail_profile.display().to_string(),
+            wheel_radius_m: config.wheel_radius_m,
+            back_to_back_m: config.back_to_back_m,
+            gauge_m: config.gauge_m,
+            rail_spacing_m: config.rail_spacing_m,
+            rail_inclination_rad: config.rail_inclination_rad,
+            support: match config.support {
+                TableSupport::Rigid => "rigid".into(),
+                TableSupport::Elastic { .. } => "elastic".into(),
+            },
+            wheel_load_n: load,
+            young_pa: material.young_pa,
+            poisson: material.poisson,
+            source: "track-preproc".into(),
+        },
+        y_m: y,
+        yaw_rad: config.yaw_rad.clone(),
+        rows,
+        conicity: ConicityTable::default(),
+    };
+    let summary = conicity_of(&table);
+    table.conicity = ConicityTable {
+        amplitude_m: summary.amplitude_mm.iter().map(|a| a * 1e-3).collect(),
+        tan_gamma_e: summary
+            .tan_gamma_e
+            .iter()
+            .map(|t| t.unwrap_or(f64::NAN))
+            .collect(),
+    };
+    Ok(table)
+}
+
+/// EN 15302 equivalent conicity (1…6 mm) of a table's Δr(y) at zero yaw.
+pub fn conicity_of(table: &ContactTable) -> ConicitySummary {
+    let curve: Vec<(f64, f64)> = table
+        .delta_r_curve()
+        .into_iter()
+        .filter(|p| p.1.is_finite())
+        .collect();
+    let (y, dr): (Vec<f64>, Vec<f64>) = curve.into_iter().unzip();
+    match DeltaRFunction::new(y, dr) {
+        Ok(f) => ConicitySummary::new(&f),
+        Err(_) => ConicitySummary::empty(),
+    }
+}
+
+/// The profile file paths of a config, for provenance.
+pub fn profile_paths(config: &ContactTableConfig) -> [(&'static str, &Path); 2] {
+    [
+        ("wheel_profile", config.wheel_profile.as_path()),
+        ("rail_profile", config.rail_profile.as_path()),
+    ]
+}

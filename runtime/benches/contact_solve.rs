@@ -1,0 +1,117 @@
+//! Criterion bench: one warm-started tread contact solve (Newton from the
+//! previous step's surface parameters), a whole wheelset step (both wheels),
+//! and a cold solve (coarse search + Newton), for S1002 on UIC60 and the
+//! ML95-like wheel on UIC60 1:20.
+
+use std::hint::black_box;
+use std::path::Path;
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use runtime::contact::quasi_static::{Support, settle};
+use runtime::contact::{
+    ContactOptions, ContactSolver, FlangeSearch, SurfaceParams, WheelsetContactModel, WheelsetPose,
+};
+use runtime::profile::{RailPlacement, RailProfileOptions, WheelProfileOptions};
+use runtime::profile_import::{ImportOptions, load_rail, load_wheel};
+use runtime::track::{Side, straight_track};
+
+fn model(wheel: &str, radius: f64, inclination: f64) -> WheelsetContactModel {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tables/profiles");
+    let w = load_wheel(
+        &dir.join(wheel),
+        &ImportOptions::default(),
+        WheelProfileOptions {
+            nominal_radius_m: radius,
+            ..Default::default()
+        },
+    )
+    .expect("wheel profile");
+    let r = load_rail(
+        &dir.join("MBench_UIC60_v3.prr"),
+        &ImportOptions::default(),
+        RailProfileOptions::default(),
+    )
+    .expect("rail profile");
+    WheelsetContactModel::new(
+        w.clone(),
+        w,
+        1.360,
+        &r,
+        &r,
+        RailPlacement {
+            gauge_m: 1.435,
+            rail_spacing_m: 1.507,
+            inclination_rad: inclination,
+        },
+    )
+    .expect("model")
+}
+
+fn bench(c: &mut Criterion) {
+    for (name, m) in [
+        ("s1002_uic60", model("MBench_S1002_v3.prw", 0.46, 0.0)),
+        (
+            "ml95_uic60_1in20",
+            model(
+                "ml95_like/ml95_like_wheel.csv",
+                0.43,
+                (1.0f64 / 40.0).atan(),
+            ),
+        ),
+    ] {
+        let track = straight_track(20.0, 0.1, 1.435, 1.507, m.placement().inclination_rad);
+        let mut solver = ContactSolver::new(ContactOptions {
+            flange: FlangeSearch::Off,
+            ..Default::default()
+        });
+        let st =
+            settle(&m, &track, 10.0, 0.002, 0.001, Support::Rigid, &mut solver).expect("settled");
+        let options = ContactOptions::default();
+        let tread = st
+            .contacts
+            .side(Side::Left)
+            .next()
+            .expect("tread contact")
+            .params;
+        // The next step: the wheelset 2 cm further on, slightly moved.
+        let pose = WheelsetPose::on_track(&track, 10.02, 0.00201, st.height_m, 0.001, st.roll_rad)
+            .expect("pose");
+        let guess = SurfaceParams {
+            s_rail_m: tread.s_rail_m + 0.02,
+            ..tread
+        };
+        c.bench_function(&format!("contact_warm_tread_solve/{name}"), |b| {
+            b.iter(|| {
+                m.solve_pair(
+                    &track,
+                    black_box(&pose),
+                    Side::Left,
+                    0,
+                    Some(black_box(guess)),
+                    &options,
+                )
+                .expect("solves")
+            })
+        });
+        c.bench_function(&format!("contact_cold_tread_solve/{name}"), |b| {
+            b.iter(|| {
+                m.solve_pair(&track, black_box(&pose), Side::Left, 0, None, &options)
+                    .expect("solves")
+            })
+        });
+        let mut step_solver = solver.clone();
+        let pose_b = WheelsetPose::on_track(&track, 10.0, 0.002, st.height_m, 0.001, st.roll_rad)
+            .expect("pose");
+        let mut flip = false;
+        c.bench_function(&format!("contact_wheelset_step_tread/{name}"), |b| {
+            b.iter(|| {
+                flip = !flip;
+                let p = if flip { &pose } else { &pose_b };
+                step_solver.solve(&m, &track, black_box(p)).expect("solves")
+            })
+        });
+    }
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
