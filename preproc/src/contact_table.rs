@@ -7,7 +7,7 @@
 use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
-use runtime::contact::quasi_static::{Settled, Support, settle};
+use runtime::contact::quasi_static::{Settled, Support, level_wheel_contacts, settle};
 use runtime::contact::{
     Candidate, ContactError, ContactOptions, ContactSolver, FlangeSearch, WheelsetContactModel,
 };
@@ -304,11 +304,16 @@ pub fn build_contact_table(
             let directions: [Vec<usize>; 2] =
                 [(zero..y.len()).collect(), (0..=zero).rev().collect()];
             for order in directions {
-                let mut solver = ContactSolver::new(ContactOptions {
-                    flange: FlangeSearch::On,
-                    ..Default::default()
-                });
                 for i in order {
+                    // A cold start per row: the search of every piece finds
+                    // all its candidates and keeps the deepest, so a jump of
+                    // the contact (to the flange root of a hollow tread, say)
+                    // is not missed, as continuation from the previous row
+                    // would (it follows one contact point continuously).
+                    let mut solver = ContactSolver::new(ContactOptions {
+                        flange: FlangeSearch::On,
+                        ..Default::default()
+                    });
                     let st = settle(model, &track, 2.0, y[i], yaw, support, &mut solver).map_err(
                         |source| ContactTableBuildError::Settle {
                             y_mm: y[i] * 1e3,
@@ -358,7 +363,8 @@ pub fn build_contact_table(
         rows,
         conicity: ConicityTable::default(),
     };
-    let summary = conicity_of(&table);
+    let level = en15302_delta_r(model, config, &table.y_m)?;
+    let summary = ConicitySummary::new(&level);
     table.conicity = ConicityTable {
         amplitude_m: summary.amplitude_mm.iter().map(|a| a * 1e-3).collect(),
         tan_gamma_e: summary
@@ -366,19 +372,63 @@ pub fn build_contact_table(
             .iter()
             .map(|t| t.unwrap_or(f64::NAN))
             .collect(),
+        level_y_m: level.y_m().to_vec(),
+        level_delta_r_m: level.delta_r_m().to_vec(),
     };
     Ok(table)
 }
 
-/// EN 15302 equivalent conicity (1…6 mm) of a table's Δr(y) at zero yaw.
+/// |Δr| below this is round-off of identical radii (m).
+const DELTA_R_ROUND_OFF_M: f64 = 1e-9;
+
+/// The rolling radius difference Δr(y) = r_left − r_right of EN 15302's
+/// idealised wheelset on the lateral grid `y_m`: kept level (no roll), each
+/// wheel lowered separately onto its rail (rigid contact), zero yaw — the
+/// conditions of the standard's reference results, which neglect the
+/// wheelset's roll (a rolling wheelset tilts its profiles by φ and moves the
+/// jumps of the contact point by 0.1–0.4 mm). Each lateral shift starts
+/// cold, so every jump of the contact is found. |Δr| below 1 nm is taken as
+/// 0 (identical radii), so round-off cannot create spurious centres.
+pub fn en15302_delta_r(
+    model: &WheelsetContactModel,
+    config: &ContactTableConfig,
+    y_m: &[f64],
+) -> Result<DeltaRFunction, ContactTableBuildError> {
+    let track = straight_track(
+        4.0,
+        0.1,
+        config.gauge_m,
+        config.rail_spacing_m,
+        config.rail_inclination_rad,
+    );
+    let dr: Vec<f64> = y_m
+        .par_iter()
+        .map(|&y| {
+            let mut solver = ContactSolver::new(ContactOptions::default());
+            let c = level_wheel_contacts(model, &track, 2.0, y, 0.0, &mut solver).map_err(
+                |source| ContactTableBuildError::Settle {
+                    y_mm: y * 1e3,
+                    yaw_mrad: 0.0,
+                    source,
+                },
+            )?;
+            let d = c[0].rolling_radius_m - c[1].rolling_radius_m;
+            Ok(if d.abs() < DELTA_R_ROUND_OFF_M {
+                0.0
+            } else {
+                d
+            })
+        })
+        .collect::<Result<_, ContactTableBuildError>>()?;
+    DeltaRFunction::new(y_m.to_vec(), dr)
+        .map_err(|e| ContactTableBuildError::Model(format!("EN 15302 Δr function: {e}")))
+}
+
+/// EN 15302 equivalent conicity (1…6 mm) of a table, from the level
+/// wheelset's Δr stored with it (see [`en15302_delta_r`]).
 pub fn conicity_of(table: &ContactTable) -> ConicitySummary {
-    let curve: Vec<(f64, f64)> = table
-        .delta_r_curve()
-        .into_iter()
-        .filter(|p| p.1.is_finite())
-        .collect();
-    let (y, dr): (Vec<f64>, Vec<f64>) = curve.into_iter().unzip();
-    match DeltaRFunction::new(y, dr) {
+    let c = &table.conicity;
+    match DeltaRFunction::new(c.level_y_m.clone(), c.level_delta_r_m.clone()) {
         Ok(f) => ConicitySummary::new(&f),
         Err(_) => ConicitySummary::empty(),
     }

@@ -147,12 +147,18 @@ pub struct ContactTableMeta {
     pub source: String,
 }
 
-/// Equivalent conicity (EN 15302) of the table's Δr(y) at yaw 0.
+/// Equivalent conicity (EN 15302) of the table's wheel/rail pair, with the
+/// Δr function it was computed from: that of EN 15302's idealised wheelset,
+/// kept level and each wheel lowered onto its rail (the standard's reference
+/// results neglect the roll; the table's rows do not).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct ConicityTable {
     pub amplitude_m: Vec<f64>,
     /// tan γe; NaN where the amplitude exceeds the table.
     pub tan_gamma_e: Vec<f64>,
+    /// The level wheelset's Δr(y) (m) on the table's lateral grid.
+    pub level_y_m: Vec<f64>,
+    pub level_delta_r_m: Vec<f64>,
 }
 
 /// A contact lookup table.

@@ -292,3 +292,69 @@ pub fn flange_clearance_m(
     }
     Ok(None)
 }
+
+/// The contacts of a wheelset kept level (no roll), each wheel lowered
+/// separately until it touches its rail (rigid): the idealisation of
+/// EN 15302 for the rolling-radius-difference function, whose reference
+/// results neglect the roll of the wheelset. Returns, left then right, the
+/// touching wheel's deepest candidate (penetration 0).
+pub fn level_wheel_contacts(
+    model: &WheelsetContactModel,
+    track: &TrackTables,
+    s_m: f64,
+    y_m: f64,
+    yaw_rad: f64,
+    solver: &mut ContactSolver,
+) -> Result<[Candidate; 2], ContactError> {
+    let saved = solver.options.flange;
+    solver.options.flange = FlangeSearch::On;
+    let mut out = Vec::with_capacity(2);
+    for side in Side::BOTH {
+        let i = si(side);
+        let deepest = |z: f64, solver: &mut ContactSolver| -> Result<Candidate, ContactError> {
+            let pose = WheelsetPose::on_track(track, s_m, y_m, z, yaw_rad, 0.0)?;
+            let c = solver.solve(model, track, &pose)?;
+            c.candidates[i]
+                .iter()
+                .flatten()
+                .max_by(|a, b| a.penetration_m.total_cmp(&b.penetration_m))
+                .copied()
+                .ok_or_else(|| {
+                    ContactError::Setup(format!(
+                        "no contact candidate on the {side} wheel at y = {:.2} mm",
+                        y_m * 1e3
+                    ))
+                })
+        };
+        // δ(z) decreases with z at a slope of about −1 (tread) to −cos γ
+        // (flange): secant iterations from the nominal radius.
+        let mut z0 = model.wheel(side).nominal_radius_m();
+        let mut c0 = deepest(z0, solver)?;
+        let mut z1 = z0 + c0.penetration_m;
+        let mut c1 = deepest(z1, solver)?;
+        for _ in 0..40 {
+            if c1.penetration_m.abs() < 1e-12 {
+                break;
+            }
+            let slope = (c1.penetration_m - c0.penetration_m) / (z1 - z0);
+            let step = if slope.abs() > 1e-3 {
+                -c1.penetration_m / slope
+            } else {
+                c1.penetration_m
+            };
+            (z0, c0) = (z1, c1);
+            z1 += step.clamp(-1e-3, 1e-3);
+            c1 = deepest(z1, solver)?;
+        }
+        if c1.penetration_m.abs() > 1e-9 {
+            solver.options.flange = saved;
+            return Err(ContactError::Setup(format!(
+                "the {side} wheel could not be brought to touch at y = {:.2} mm",
+                y_m * 1e3
+            )));
+        }
+        out.push(c1);
+    }
+    solver.options.flange = saved;
+    Ok([out[0], out[1]])
+}

@@ -9,6 +9,10 @@ use crate::spline::Scheme;
 /// Sampling step for the convexity check (m).
 const SCAN_STEP_M: f64 = 5e-5;
 
+/// A profile origin within this distance below the highest point of the
+/// head is taken as the nominal top of rail (m).
+const NOMINAL_TOP_TOLERANCE_M: f64 = 0.001;
+
 /// Options of a rail profile.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RailProfileOptions {
@@ -128,12 +132,31 @@ impl RailProfile {
     /// on the rail space curve and the gauge point is at half the gauge from
     /// the track centre, i.e. `(rail_spacing − gauge)/2` from the rail space
     /// curve towards the centre.
+    ///
+    /// The top of the rail is the file's origin when it lies within 1 mm of
+    /// the highest point (rail files put their origin on the nominal top of
+    /// rail; a rail inclined in its file, like EN 15302's rail A, has its
+    /// highest point up to 0.5 mm above it), else the highest point. With
+    /// the origin, the EN 15302 reference Δr functions are reproduced to
+    /// 0.01–0.16 mm between their jumps (`preproc/tests/conicity_end_to_end.rs`);
+    /// 14 mm below the highest point instead moves the jumps of profiles H and
+    /// I by a tenth of a millimetre.
     pub fn placed(&self, placement: &RailPlacement) -> Result<PlacedRailProfile, ProfileError> {
         let (sb, cb) = placement.inclination_rad.sin_cos();
         // Rail frame (u, z) → track plane: u_t = u cos β + z sin β, z_t = −u sin β + z cos β.
         let to_track = |(u, z): (f64, f64)| (u * cb + z * sb, -u * sb + z * cb);
         let pts: Vec<(f64, f64)> = self.outline.iter().copied().map(to_track).collect();
-        let z_top = pts.iter().fold(f64::NEG_INFINITY, |m, p| m.max(p.1));
+        let highest = pts.iter().fold(f64::NEG_INFINITY, |m, p| m.max(p.1));
+        // The top of the rail: the file's origin when it lies within
+        // NOMINAL_TOP_TOLERANCE_M of the highest point (profile files put
+        // their origin on the nominal top of rail, the running-surface
+        // reference of EN 13848-1; on an inclined rail the highest point of
+        // the head lies a little above it), else the highest point.
+        let z_top = if highest.abs() <= NOMINAL_TOP_TOLERANCE_M {
+            0.0
+        } else {
+            highest
+        };
         let z_g = z_top - self.options.gauge_height_m;
         let mut u_g = f64::NEG_INFINITY;
         for w in pts.windows(2) {

@@ -11,6 +11,8 @@
 //!                           candidate); rows y-major, yaw-minor
 //! /contact_table/y          the lateral grid (m), /contact_table/yaw the yaw grid (rad)
 //! /contact_table/conicity   amplitude, tan_gamma_e (EN 15302, yaw 0)
+//! /contact_table/delta_r_en15302   y, delta_r: the level wheelset's Δr(y) it
+//!                           was computed from (EN 15302's idealisation)
 //! ```
 
 use std::path::Path;
@@ -127,6 +129,21 @@ pub(super) fn write(
         &["m", "1"],
         &pairs,
         |p| *p,
+    )?;
+    let level: Vec<[f64; 2]> = c
+        .level_y_m
+        .iter()
+        .zip(&c.level_delta_r_m)
+        .map(|(y, d)| [*y, *d])
+        .collect();
+    write_table(
+        path,
+        &g,
+        "delta_r_en15302",
+        &["y", "delta_r"],
+        &["m", "m"],
+        &level,
+        |p| *p,
     )
 }
 
@@ -195,9 +212,21 @@ pub(super) fn read(path: &Path, file: &hdf5::File) -> Result<Option<ContactTable
             "contact_table/conicity",
             &["amplitude", "tan_gamma_e"],
         )?;
+        let level = if g.link_exists("delta_r_en15302") {
+            read_columns(
+                path,
+                file,
+                "contact_table/delta_r_en15302",
+                &["y", "delta_r"],
+            )?
+        } else {
+            vec![Vec::new(), Vec::new()]
+        };
         ConicityTable {
             amplitude_m: c[0].clone(),
             tan_gamma_e: c[1].clone(),
+            level_y_m: level[0].clone(),
+            level_delta_r_m: level[1].clone(),
         }
     } else {
         ConicityTable::default()
