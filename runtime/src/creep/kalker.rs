@@ -148,7 +148,13 @@ fn parse_table(text: &str) -> Result<KalkerTable, String> {
             *cell = coefs;
         }
     }
-    if sides.iter().flatten().flatten().flatten().any(|v| v.is_nan()) {
+    if sides
+        .iter()
+        .flatten()
+        .flatten()
+        .flatten()
+        .any(|v| v.is_nan())
+    {
         return Err("missing rows".into());
     }
     Ok(KalkerTable { sides })
@@ -367,7 +373,13 @@ mod tests {
     /// differences rather than Lagrange's form).
     #[test]
     fn poisson_03_follows_kalkers_rule() {
-        for (kind, g) in [("a/b", 0.1), ("a/b", 0.5), ("a/b", 1.0), ("b/a", 0.3), ("b/a", 0.1)] {
+        for (kind, g) in [
+            ("a/b", 0.1),
+            ("a/b", 0.5),
+            ("a/b", 1.0),
+            ("b/a", 0.3),
+            ("b/a", 0.1),
+        ] {
             let a_over_b = if kind == "a/b" { g } else { 1.0 / g };
             let got = as_array(kalker_coefficients(a_over_b, 0.3).unwrap());
             let rows: Vec<_> = csv_rows()
@@ -375,12 +387,15 @@ mod tests {
                 .filter(|r| r.0 == kind && (r.1 - g).abs() < 1e-9)
                 .collect();
             assert_eq!(rows.len(), 3);
-            for k in 0..4 {
+            for (k, &got_k) in got.iter().enumerate() {
                 let y: Vec<f64> = rows.iter().map(|r| 1.0 / r.3[k]).collect();
                 let d1 = (y[1] - y[0]) / 0.25;
                 let d2 = ((y[2] - y[1]) / 0.25 - d1) / 0.5;
                 let inv = y[0] + d1 * 0.3 + d2 * 0.3 * (0.3 - 0.25);
-                assert!((got[k] - 1.0 / inv).abs() < 1e-12 * got[k], "{kind}={g} coef {k}");
+                assert!(
+                    (got_k - 1.0 / inv).abs() < 1e-12 * got_k,
+                    "{kind}={g} coef {k}"
+                );
             }
         }
         // Sanity: between the ν = 0.25 and 0.5 columns for C11 at a = b.
@@ -413,10 +428,17 @@ mod tests {
         for nu in [0.0, 0.25, 0.3, 0.5] {
             for a_over_b in [0.1, 10.0] {
                 let at = as_array(kalker_coefficients(a_over_b, nu).unwrap());
-                let eps = if a_over_b < 1.0 { 1.0 - 1e-10 } else { 1.0 + 1e-10 };
+                let eps = if a_over_b < 1.0 {
+                    1.0 - 1e-10
+                } else {
+                    1.0 + 1e-10
+                };
                 let out = as_array(kalker_coefficients(a_over_b * eps, nu).unwrap());
                 for k in 0..4 {
-                    assert!((out[k] - at[k]).abs() < 1e-7 * at[k], "{a_over_b} nu {nu} {k}");
+                    assert!(
+                        (out[k] - at[k]).abs() < 1e-7 * at[k],
+                        "{a_over_b} nu {nu} {k}"
+                    );
                 }
             }
             // Narrow side: ratio to the closed form → 1.
@@ -443,7 +465,10 @@ mod tests {
         while r < 1e4 {
             for nu in [0.0, 0.3, 0.5] {
                 let c = as_array(kalker_coefficients(r, nu).unwrap());
-                assert!(c.iter().all(|v| v.is_finite() && *v > 0.0), "{r} {nu} {c:?}");
+                assert!(
+                    c.iter().all(|v| v.is_finite() && *v > 0.0),
+                    "{r} {nu} {c:?}"
+                );
             }
             r *= 1.07;
         }
