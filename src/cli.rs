@@ -4,6 +4,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
+use runtime::creep::CreepLaw;
 
 /// Railway vehicle dynamics on pre-processed track tables.
 #[derive(Debug, Parser)]
@@ -17,6 +18,8 @@ pub struct Cli {
 pub enum Command {
     /// Contact of a wheelset at a prescribed pose on a straight track.
     Contact(ContactArgs),
+    /// Creep curves (force / μN against creepage) of every creep law for one contact ellipse.
+    CreepCurves(CreepCurveArgs),
     /// Print both rails' interpolated position and frame at a centreline distance.
     Probe {
         /// Track table file written by `track-preproc build`.
@@ -83,12 +86,129 @@ pub struct ContactArgs {
     /// Spline scheme of the profile functions.
     #[arg(long, default_value = "cubic", value_parser = ["cubic", "cubic-natural", "akima", "pchip"])]
     pub profile_scheme: String,
+    /// Forward speed of the wheelset [m/s]; it spins at V/r₀ about its axle.
+    #[arg(long, default_value_t = 30.0, value_name = "V")]
+    pub speed_m_s: f64,
+    /// Creep law.
+    #[arg(long, default_value = "polach", value_parser = CreepLaw::NAMES)]
+    pub creep: String,
+    /// Coefficient of friction.
+    #[arg(long, default_value_t = 0.3, value_name = "MU")]
+    pub mu: f64,
     /// Print JSON.
     #[arg(long)]
     pub json: bool,
 }
 
+/// Arguments of `sim creep-curves`.
+#[derive(Debug, clap::Args)]
+pub struct CreepCurveArgs {
+    /// Output directory (creep_curves.png, creep_curves.csv).
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+    /// Normal force [N].
+    #[arg(long, default_value_t = 80_000.0, value_name = "N")]
+    pub normal_n: f64,
+    /// Semi-axis of the contact ellipse in the rolling direction [mm] (with --b-mm; default: Hertz from the radii).
+    #[arg(long, value_name = "MM", requires = "b_mm")]
+    pub a_mm: Option<f64>,
+    /// Lateral semi-axis [mm] (with --a-mm).
+    #[arg(long, value_name = "MM", requires = "a_mm")]
+    pub b_mm: Option<f64>,
+    /// Wheel rolling radius for the Hertz ellipse [m].
+    #[arg(long, default_value_t = 0.46, value_name = "M")]
+    pub wheel_radius: f64,
+    /// Rail head transverse radius for the Hertz ellipse [m].
+    #[arg(long, default_value_t = 0.3, value_name = "M")]
+    pub rail_head_radius: f64,
+    /// Coefficient of friction.
+    #[arg(long, default_value_t = 0.3, value_name = "MU")]
+    pub mu: f64,
+    /// Rolling speed [m/s] (slip-velocity dependent friction).
+    #[arg(long, default_value_t = 30.0, value_name = "V")]
+    pub speed_m_s: f64,
+    /// Young's modulus [Pa].
+    #[arg(long, default_value_t = 210e9, value_name = "E")]
+    pub young_pa: f64,
+    /// Poisson's ratio.
+    #[arg(long, default_value_t = 0.3, value_name = "NU")]
+    pub poisson: f64,
+    /// Largest creepage of the ξ and η sweeps (default: twice the heuristic law's saturation creepage).
+    #[arg(long, value_name = "S")]
+    pub max_creepage: Option<f64>,
+    /// Points per curve.
+    #[arg(long, default_value_t = 201, value_name = "K")]
+    pub points: usize,
+    /// FASTSIM strips across the ellipse.
+    #[arg(long, value_name = "K")]
+    pub fastsim_strips: Option<usize>,
+    /// FASTSIM elements per strip.
+    #[arg(long, value_name = "K")]
+    pub fastsim_elements: Option<usize>,
+}
+
+impl CreepCurveArgs {
+    /// Second stage: checked settings.
+    pub fn to_config(&self) -> Result<crate::creep_curves::CreepCurveConfig> {
+        use crate::creep_curves::CreepCurveConfig;
+        let material = crate::contact::material(self.young_pa, self.poisson);
+        material.validate().context("--young-pa / --poisson")?;
+        let (a_m, b_m) = match (self.a_mm, self.b_mm) {
+            (Some(a), Some(b)) => (a * 1e-3, b * 1e-3),
+            _ => CreepCurveConfig::from_radii(
+                self.normal_n,
+                self.wheel_radius,
+                self.rail_head_radius,
+                material,
+            )?,
+        };
+        let mut fastsim = runtime::creep::FastsimParams::default();
+        if let Some(k) = self.fastsim_strips {
+            fastsim.strips = k;
+        }
+        if let Some(k) = self.fastsim_elements {
+            fastsim.elements_per_strip = k;
+        }
+        let config = CreepCurveConfig {
+            normal_force_n: self.normal_n,
+            a_m,
+            b_m,
+            friction_coefficient: self.mu,
+            speed_m_s: self.speed_m_s,
+            material,
+            max_creepage: self.max_creepage,
+            points: self.points,
+            fastsim,
+        };
+        config.validate()?;
+        Ok(config)
+    }
+}
+
 impl ContactArgs {
+    /// Second stage: the wheelset's motion and the force models.
+    pub fn to_rolling(&self) -> Result<crate::contact::Rolling> {
+        let creep_law = CreepLaw::from_name(&self.creep)
+            .with_context(|| format!("--creep {}: unknown creep law", self.creep))?;
+        let settings = runtime::contact_force::ContactForceSettings {
+            material: crate::contact::material(self.young_pa, self.poisson),
+            friction_coefficient: self.mu,
+            creep_law,
+            ..Default::default()
+        };
+        settings.validate().context("force model settings")?;
+        if !(self.speed_m_s.is_finite() && self.speed_m_s >= 0.0) {
+            anyhow::bail!(
+                "--speed-m-s must be finite and >= 0, got {}",
+                self.speed_m_s
+            );
+        }
+        Ok(crate::contact::Rolling {
+            speed_m_s: self.speed_m_s,
+            settings,
+        })
+    }
+
     /// Second stage: checked settings.
     pub fn to_config(&self) -> Result<preproc::contact_table::ContactTableConfig> {
         use preproc::contact_table::{ContactTableConfig, TableSupport};
@@ -126,12 +246,25 @@ pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Contact(args) => {
             let config = args.to_config()?;
-            let (case, _) =
-                crate::contact::contact_case(&config, args.y_mm * 1e-3, args.yaw_mrad * 1e-3)?;
+            let rolling = args.to_rolling()?;
+            let (case, _) = crate::contact::contact_case(
+                &config,
+                args.y_mm * 1e-3,
+                args.yaw_mrad * 1e-3,
+                &rolling,
+            )?;
             if args.json {
                 println!("{}", serde_json::to_string_pretty(&case)?);
             } else {
                 print!("{}", case.to_text());
+            }
+            Ok(())
+        }
+        Command::CreepCurves(args) => {
+            let config = args.to_config()?;
+            let curves = crate::creep_curves::creep_curves(&config)?;
+            for path in curves.write(&args.out)? {
+                println!("wrote {}", path.display());
             }
             Ok(())
         }

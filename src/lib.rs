@@ -3,4 +3,5 @@
 
 pub mod cli;
 pub mod contact;
+pub mod creep_curves;
 pub mod probe;

@@ -16,6 +16,7 @@ pub mod track;
 
 pub use nalgebra::Vector3;
 pub mod contact;
+pub mod contact_force;
 pub mod contact_table;
 pub mod creep;
 pub mod creepage;
