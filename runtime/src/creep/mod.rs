@@ -32,7 +32,7 @@ mod kalker;
 mod polach;
 
 pub use fastsim::FastsimParams;
-pub use kalker::{kalker_coefficients, KalkerCoefficients};
+pub use kalker::{KalkerCoefficients, kalker_coefficients};
 pub use polach::{PolachParams, SlipVelocityFriction};
 
 /// Why a creep force could not be evaluated.
