@@ -2,8 +2,9 @@
 //! creep law for one contact ellipse — the figure a report compares creep
 //! laws with (e.g. Shen, Hedrick & Elkins 1983, Fig. 2; Polach 1999,
 //! Fig. 3). Pure longitudinal creepage ξ, pure lateral creepage η, pure spin
-//! φ (lateral force and spin moment), and the Polach 2005 presets against
-//! the slip velocity.
+//! φ (lateral force and spin moment), and Polach's 2005 dry and wet
+//! presets (falling friction with the slip velocity) over a wide creepage
+//! range.
 
 use std::path::{Path, PathBuf};
 
@@ -153,24 +154,26 @@ pub fn creep_curves(config: &CreepCurveConfig) -> Result<CreepCurves> {
     };
     let n = config.points;
     let grid = |max: f64| -> Vec<f64> { (0..n).map(|i| max * i as f64 / (n - 1) as f64).collect() };
-    let laws = laws(config);
-    let sweep = |title: &str,
-                 x_label: &str,
-                 y_label: &str,
-                 x: Vec<f64>,
-                 set: &dyn Fn(&mut CreepInput, f64),
-                 pick: &dyn Fn(&runtime::creep::CreepForces) -> f64|
+    let all_laws = laws(config);
+    let sweep_with = |laws: &[(String, CreepLaw, f64)],
+                      title: &str,
+                      x_label: &str,
+                      y_label: &str,
+                      x: Vec<f64>,
+                      set: &dyn Fn(&mut CreepInput, f64),
+                      pick: &dyn Fn(&runtime::creep::CreepForces, f64) -> f64|
      -> Result<Sweep> {
         let mut curves = Vec::new();
-        for (name, law) in &laws {
+        for (name, law, mu) in laws {
             let mut ys = Vec::with_capacity(x.len());
             for &xv in &x {
                 let mut input = base;
+                input.friction_coefficient = *mu;
                 set(&mut input, xv);
                 let f = law
                     .evaluate(&input)
                     .with_context(|| format!("{name} at {x_label} = {xv}"))?;
-                ys.push(pick(&f));
+                ys.push(pick(&f, *mu));
             }
             curves.push((name.clone(), ys));
         }
@@ -182,7 +185,37 @@ pub fn creep_curves(config: &CreepCurveConfig) -> Result<CreepCurves> {
             title: title.into(),
         })
     };
+    let main_laws: Vec<(String, CreepLaw, f64)> = all_laws
+        .into_iter()
+        .map(|(n, l)| (n, l, config.friction_coefficient))
+        .collect();
+    let sweep =
+        |title: &str,
+         x_label: &str,
+         y_label: &str,
+         x: Vec<f64>,
+         set: &dyn Fn(&mut CreepInput, f64),
+         pick: &dyn Fn(&runtime::creep::CreepForces, f64) -> f64|
+         -> Result<Sweep> { sweep_with(&main_laws, title, x_label, y_label, x, set, pick) };
     let mu_n_m = mu_n * (ab.sqrt());
+    let n_n = config.normal_force_n;
+    let presets: Vec<(String, CreepLaw, f64)> = vec![
+        (
+            format!("Polach 2005 dry, μ0 = {}", PolachParams::DRY_2005_MU0),
+            CreepLaw::Polach(PolachParams::dry_2005()),
+            PolachParams::DRY_2005_MU0,
+        ),
+        (
+            format!("Polach 2005 wet, μ0 = {}", PolachParams::WET_2005_MU0),
+            CreepLaw::Polach(PolachParams::wet_2005()),
+            PolachParams::WET_2005_MU0,
+        ),
+        (
+            format!("Polach 1999, μ = {}", config.friction_coefficient),
+            CreepLaw::Polach(PolachParams::default()),
+            config.friction_coefficient,
+        ),
+    ];
     let sweeps = vec![
         sweep(
             "Longitudinal creepage",
@@ -190,7 +223,7 @@ pub fn creep_curves(config: &CreepCurveConfig) -> Result<CreepCurves> {
             "−Fx / μN",
             grid(max_creepage),
             &|i, v| i.xi = v,
-            &|f| -f.fx_n / mu_n,
+            &|f, _| -f.fx_n / mu_n,
         )?,
         sweep(
             "Lateral creepage",
@@ -198,7 +231,7 @@ pub fn creep_curves(config: &CreepCurveConfig) -> Result<CreepCurves> {
             "−Fy / μN",
             grid(max_creepage),
             &|i, v| i.eta = v,
-            &|f| -f.fy_n / mu_n,
+            &|f, _| -f.fy_n / mu_n,
         )?,
         sweep(
             "Spin: lateral force",
@@ -206,7 +239,7 @@ pub fn creep_curves(config: &CreepCurveConfig) -> Result<CreepCurves> {
             "−Fy / μN",
             grid(max_spin_1_m),
             &|i, v| i.phi_1_m = v,
-            &|f| -f.fy_n / mu_n,
+            &|f, _| -f.fy_n / mu_n,
         )?,
         sweep(
             "Spin: spin moment",
@@ -214,7 +247,19 @@ pub fn creep_curves(config: &CreepCurveConfig) -> Result<CreepCurves> {
             "−Mz / (μN √(ab))",
             grid(max_spin_1_m),
             &|i, v| i.phi_1_m = v,
-            &|f| -f.mz_nm / mu_n_m,
+            &|f, _| -f.mz_nm / mu_n_m,
+        )?,
+        sweep_with(
+            &presets,
+            &format!(
+                "Polach: falling friction with slip velocity, V = {} m/s",
+                config.speed_m_s
+            ),
+            "ξ [-]",
+            "−Fx / μ0N",
+            grid(0.2),
+            &|i, v| i.xi = v,
+            &|f, mu| -f.fx_n / (mu * n_n),
         )?,
     ];
     Ok(CreepCurves {
@@ -241,13 +286,16 @@ impl CreepCurves {
                             .with_colour(k),
                     );
                 }
+                // The saturating laws set the scale; Kalker linear's
+                // straight line runs off the top.
                 let top = s
                     .curves
                     .iter()
-                    .skip(1)
+                    .filter(|(name, _)| name != "Kalker linear")
                     .flat_map(|(_, ys)| ys.iter().copied())
-                    .fold(1.0_f64, f64::max);
-                chart.y_range = Some((0.0, 1.2 * top));
+                    .filter(|v| v.is_finite())
+                    .fold(0.0_f64, f64::max);
+                chart.y_range = Some((0.0, 1.15 * top.max(1e-3)));
                 chart
             })
             .collect();
@@ -265,7 +313,7 @@ impl CreepCurves {
             ),
             &panels,
             2,
-            (1600, 1200),
+            (1600, 1800),
         )?;
         let csv = dir.join("creep_curves.csv");
         let mut text = format!(
@@ -278,9 +326,19 @@ impl CreepCurves {
             c.material.poisson,
             c.speed_m_s
         );
+        text += "# columns: force / (mu N) (spin moment: / (mu N sqrt(ab))); the last block is normalised by each preset's mu0\n";
         text += "sweep,creepage,kalker,heuristic,polach,fastsim\n";
         for (k, s) in self.sweeps.iter().enumerate() {
-            let name = ["xi", "eta", "phi_lateral_force", "phi_spin_moment"][k.min(3)];
+            let name = [
+                "xi",
+                "eta",
+                "phi_lateral_force",
+                "phi_spin_moment",
+                "xi_polach_presets",
+            ][k.min(4)];
+            if k == 4 {
+                text += "sweep,creepage,polach_dry_2005,polach_wet_2005,polach_1999\n";
+            }
             for (i, x) in s.x.iter().enumerate() {
                 text += &format!("{name},{x:e}");
                 for (_, ys) in &s.curves {
