@@ -31,7 +31,7 @@ mod heuristic;
 mod kalker;
 mod polach;
 
-pub use fastsim::FastsimParams;
+pub use fastsim::{FastsimParams, TractionBound};
 pub use kalker::{KalkerCoefficients, kalker_coefficients};
 pub use polach::{PolachParams, SlipVelocityFriction};
 
