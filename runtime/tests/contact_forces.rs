@@ -6,12 +6,11 @@
 //! contact, "no contact" and non-Hertzian geometry. Tolerances at each
 //! check.
 
-use std::path::{Path, PathBuf};
+mod common;
 
+use common::{s1002_model, solver, track_for};
 use runtime::contact::quasi_static::{Settled, Support, settle};
-use runtime::contact::{
-    Candidate, ContactOptions, ContactSolver, FlangeSearch, WheelsetContactModel,
-};
+use runtime::contact::{Candidate, WheelsetContactModel};
 use runtime::contact_force::{
     ContactForceError, ContactForceSettings, WheelsetMotion, contact_creepages, evaluate_contact,
     hertz_shape, tangential_forces,
@@ -19,46 +18,11 @@ use runtime::contact_force::{
 use runtime::creep::{CreepLaw, kalker_coefficients};
 use runtime::hertz::{HertzError, Material};
 use runtime::normal::ContactMemory;
-use runtime::profile::{RailPlacement, RailProfileOptions, WheelProfileOptions, Zone};
-use runtime::profile_import::{ImportOptions, load_rail, load_wheel};
-use runtime::track::{Side, TrackTables, straight_track};
+use runtime::profile::Zone;
+use runtime::track::{Side, TrackTables};
 
 const LOAD_N: f64 = 50e3;
 const SPEED_M_S: f64 = 30.0;
-
-fn shipped(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../tables/profiles")
-        .join(rel)
-}
-
-fn s1002_model() -> WheelsetContactModel {
-    let wheel = load_wheel(
-        &shipped("MBench_S1002_v3.prw"),
-        &ImportOptions::default(),
-        WheelProfileOptions::default(),
-    )
-    .unwrap();
-    let rail = load_rail(
-        &shipped("MBench_UIC60_v3.prr"),
-        &ImportOptions::default(),
-        RailProfileOptions::default(),
-    )
-    .unwrap();
-    WheelsetContactModel::new(
-        wheel.clone(),
-        wheel,
-        1.360,
-        &rail,
-        &rail,
-        RailPlacement {
-            gauge_m: 1.435,
-            rail_spacing_m: 1.507,
-            inclination_rad: 0.0,
-        },
-    )
-    .unwrap()
-}
 
 struct Case {
     model: WheelsetContactModel,
@@ -68,16 +32,12 @@ struct Case {
 impl Case {
     fn new() -> Self {
         let model = s1002_model();
-        let p = model.placement();
-        let track = straight_track(20.0, 0.1, p.gauge_m, p.rail_spacing_m, p.inclination_rad);
+        let track = track_for(&model);
         Case { model, track }
     }
 
     fn settle(&self, y_m: f64, yaw_rad: f64) -> Settled {
-        let mut solver = ContactSolver::new(ContactOptions {
-            flange: FlangeSearch::On,
-            ..Default::default()
-        });
+        let mut solver = solver();
         settle(
             &self.model,
             &self.track,

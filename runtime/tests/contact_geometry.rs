@@ -3,22 +3,19 @@
 //! Newton's convergence warm and cold, lead/lag flange contact, and the
 //! error carrying the state. Tolerances are stated at each check.
 
-use std::path::{Path, PathBuf};
+mod common;
 
+use std::path::Path;
+
+use common::{s1002_model, shipped, solver, track_for};
 use runtime::contact::quasi_static::{Support, flange_clearance_m, settle};
 use runtime::contact::{
     ContactError, ContactOptions, ContactSolver, FlangeSearch, SolveMethod, WheelsetContactModel,
     WheelsetPose,
 };
 use runtime::profile::{RailPlacement, RailProfile, RailProfileOptions, WheelProfileOptions, Zone};
-use runtime::profile_import::{ImportOptions, load_rail, load_wheel};
-use runtime::track::{Side, TrackTables, straight_track};
-
-fn shipped(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../tables/profiles")
-        .join(rel)
-}
+use runtime::profile_import::{ImportOptions, load_wheel};
+use runtime::track::Side;
 
 /// A symmetric rail head with a circular crown: curvature 1/300 mm for the
 /// first 18 mm of arc either side of the top, blended (raised cosine over
@@ -96,53 +93,6 @@ fn ml95_model(inclination: f64) -> WheelsetContactModel {
     .unwrap()
 }
 
-fn s1002_model() -> WheelsetContactModel {
-    let wheel = load_wheel(
-        &shipped("MBench_S1002_v3.prw"),
-        &ImportOptions::default(),
-        WheelProfileOptions::default(),
-    )
-    .unwrap();
-    let rail = load_rail(
-        &shipped("MBench_UIC60_v3.prr"),
-        &ImportOptions::default(),
-        RailProfileOptions::default(),
-    )
-    .unwrap();
-    WheelsetContactModel::new(
-        wheel.clone(),
-        wheel,
-        1.360,
-        &rail,
-        &rail,
-        RailPlacement {
-            gauge_m: 1.435,
-            rail_spacing_m: 1.507,
-            inclination_rad: 0.0,
-        },
-    )
-    .unwrap()
-}
-
-fn track_for(model: &WheelsetContactModel) -> TrackTables {
-    let p = model.placement();
-    straight_track(20.0, 0.1, p.gauge_m, p.rail_spacing_m, p.inclination_rad)
-}
-
-fn solver() -> ContactSolver {
-    ContactSolver::new(ContactOptions {
-        flange: FlangeSearch::On,
-        ..Default::default()
-    })
-}
-
-/// A 1:20 cone (the ML95-like wheel's tread) on a rail with a circular
-/// crown: Δr = 2λy with λ = 0.05 until flange contact — exactly so for a
-/// wheelset that cannot roll. Rigid contact rolls it by φ ≈ Δr/(2b0), which
-/// moves the contact across the crown (radius R_c) and the bottom of the
-/// wheel sideways (radius R0), so Δr = 2λy / (1 − λ(R_c + R0)/b0), 5 % more
-/// for R_c = 0.3 m, R0 = 0.43 m, b0 = 0.75 m: checked to 0.5 %. The flange is
-/// met at about 7 mm (paper §5.1).
 #[test]
 fn cone_on_circular_crown_gives_delta_r_2_lambda_y() {
     let (lambda, crown, r0, b0) = (0.05, 0.300, 0.43, 0.75);
