@@ -5,3 +5,5 @@ pub mod cli;
 pub mod contact;
 pub mod creep_curves;
 pub mod probe;
+pub mod run_plots;
+pub mod vehicle_file;

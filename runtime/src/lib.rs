@@ -15,12 +15,16 @@ pub mod spline;
 pub mod track;
 
 pub use nalgebra::Vector3;
+pub mod body;
 pub mod contact;
 pub mod contact_force;
 pub mod contact_table;
 pub mod creep;
 pub mod creepage;
+pub mod dynamics;
+pub mod element;
 pub mod elliptic;
 pub mod hertz;
+pub mod integrator;
 pub mod normal;
 pub mod profile_import;

@@ -222,6 +222,41 @@ impl WheelsetContactModel {
         }
     }
 
+    /// The candidate of one wheel and piece at given surface parameters,
+    /// without solving (the contact lookup table's points, evaluated for
+    /// the actual pose: penetration along the rail normal, contact frame,
+    /// curvatures). `Ok(None)` when the piece does not exist.
+    pub fn candidate_at(
+        &self,
+        track: &TrackTables,
+        pose: &WheelsetPose,
+        side: Side,
+        segment: usize,
+        params: SurfaceParams,
+    ) -> Result<Option<Candidate>, ContactError> {
+        let Some(pair) = self.pair(track, pose, side, segment) else {
+            return Ok(None);
+        };
+        let zone = self.wheel(side).segments()[segment].zone;
+        let e = pair.eval(&params.to_vector())?;
+        let wheel = pair.wheel;
+        let rail = pair.rail;
+        Ok(Some(from_eval(
+            side,
+            zone,
+            segment,
+            params,
+            0,
+            false,
+            &e,
+            pair.sigma,
+            wheel.nominal_radius_m(),
+            self.placement.inclination_rad,
+            |u, z| wheel.to_file_m(u, z),
+            |u, z| rail.to_file_m(u, z),
+        )))
+    }
+
     /// A sampled gap larger than this (m) means the piece is clear of the rail
     /// even if its exact closest point was not found: 1 mm plus the reach of
     /// a yawed wheel ahead of its lowest point, |ψ|·√(2·R0·h_f).

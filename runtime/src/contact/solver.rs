@@ -66,6 +66,14 @@ pub struct ContactOptions {
     /// [`super::SolveMethod::Minimisation`] and counted in [`SolverStats`].
     /// With `false` they are [`ContactError::NotConverged`] errors.
     pub minimisation_fallback: bool,
+    /// Remember pieces found without a contact of their own (no stationary
+    /// point) and skip them until the wheel has moved (see `Clear` in this
+    /// file: 0.2 mm laterally or vertically, 0.5 mrad of yaw or roll, 0.25 m
+    /// along the track). For time stepping, where consecutive poses differ
+    /// by micrometres and a cold search of such a piece (about 100 µs)
+    /// would otherwise be repeated at every evaluation. Off by default:
+    /// quasi-static sweeps jump between poses on purpose.
+    pub reuse_clear_pieces: bool,
 }
 
 impl Default for ContactOptions {
@@ -76,6 +84,7 @@ impl Default for ContactOptions {
             auto_margin_m: 0.003,
             flange_clearance_m: [0.0, 0.0],
             minimisation_fallback: true,
+            reuse_clear_pieces: false,
         }
     }
 }
@@ -124,6 +133,10 @@ pub struct SolverStats {
     pub flange_skipped: u64,
     /// Contacts taken from the minimisation fallback.
     pub minimisations: u64,
+    /// Pieces not searched again because they were found clear (no
+    /// stationary point) and the wheel has hardly moved since
+    /// (see `Clear` in the solver's source).
+    pub clear_skipped: u64,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -164,6 +177,85 @@ impl Warm {
     }
 }
 
+/// Where a wheel is relative to its rail, for the flange rule and the
+/// clear-piece cache.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct WheelPosition {
+    /// Lateral approach of the wheel towards its rail from the centred
+    /// position (m), along the track's lateral vector.
+    approach_m: f64,
+    /// Yaw of the wheelset relative to the track (rad, signed).
+    yaw_rad: f64,
+    /// Height of the wheel's profile origin along the track normal (m).
+    vertical_m: f64,
+    /// Roll of the axle relative to the track (rad, signed).
+    roll_rad: f64,
+}
+
+fn wheel_position(
+    model: &WheelsetContactModel,
+    track: &TrackTables,
+    pose: &WheelsetPose,
+    side: Side,
+) -> Result<WheelPosition, ContactError> {
+    let sigma = match side {
+        Side::Left => -1.0,
+        Side::Right => 1.0,
+    };
+    let l = track.centerline.rail_l(side, pose.s_track_m)?;
+    let rail = track.rail(side).at(l)?;
+    // Lateral measures along the track's lateral vector (not the rail
+    // frame's, which is tilted by the rail inclination: with it, the axle
+    // height would leak into the approach).
+    let frame = track.centerline.at(pose.s_track_m)?.frame;
+    let n = frame.n.normalize();
+    let b = frame.b.normalize();
+    let h = -sigma * model.half_spacing_m(side);
+    let origin = pose.position + pose.frame.column(1) * h;
+    let delta = (origin - rail.position).dot(&n);
+    let spacing = model.placement().rail_spacing_m;
+    let delta0 = -sigma * (model.half_spacing_m(side) - 0.5 * spacing);
+    Ok(WheelPosition {
+        approach_m: -sigma * (delta - delta0),
+        yaw_rad: pose.frame.column(0).dot(&n).clamp(-1.0, 1.0).asin(),
+        vertical_m: (origin - rail.position).dot(&b),
+        roll_rad: pose.frame.column(1).dot(&b).clamp(-1.0, 1.0).asin(),
+    })
+}
+
+/// A piece found without contact of its own (no stationary point on it):
+/// where the wheel was then. It is searched again only when the wheel has
+/// moved relative to its rail by more than [`CLEAR_RECHECK_M`] laterally,
+/// vertically, [`CLEAR_RECHECK_RAD`] in yaw or roll, or
+/// [`CLEAR_RECHECK_ALONG_M`] along the track — a cold search costs about
+/// 100 µs, a Newton solve about 1 µs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Clear {
+    at: WheelPosition,
+    s_track_m: f64,
+}
+
+/// Lateral motion of a wheel after which a clear piece is searched again
+/// (m). The pieces this applies to have no stationary point at all; one
+/// appears only when the wheel moves so that the piece faces the rail, a
+/// motion of millimetres for a flange root, so 0.2 mm is conservative.
+const CLEAR_RECHECK_M: f64 = 2e-4;
+/// Yaw change after which a clear piece is searched again (rad).
+const CLEAR_RECHECK_RAD: f64 = 5e-4;
+/// Travel along the track after which a clear piece is searched again (m):
+/// the rail geometry (irregularities) changes along the track.
+const CLEAR_RECHECK_ALONG_M: f64 = 0.25;
+
+impl Clear {
+    fn still_clear(&self, now: &WheelPosition, s_track_m: f64) -> bool {
+        (now.approach_m - self.at.approach_m).abs() < CLEAR_RECHECK_M
+            && (now.vertical_m - self.at.vertical_m).abs() < CLEAR_RECHECK_M
+            && (now.yaw_rad - self.at.yaw_rad).abs() < CLEAR_RECHECK_RAD
+            && (now.roll_rad - self.at.roll_rad).abs() < CLEAR_RECHECK_RAD
+            && (s_track_m - self.s_track_m).abs() < CLEAR_RECHECK_ALONG_M
+    }
+}
+
 pub(crate) fn si(side: Side) -> usize {
     match side {
         Side::Left => 0,
@@ -176,6 +268,7 @@ pub(crate) fn si(side: Side) -> usize {
 pub struct ContactSolver {
     pub options: ContactOptions,
     warm: [[Option<Warm>; MAX_SEGMENTS]; 2],
+    clear: [[Option<Clear>; MAX_SEGMENTS]; 2],
     pub stats: SolverStats,
 }
 
@@ -184,6 +277,7 @@ impl ContactSolver {
         Self {
             options,
             warm: Default::default(),
+            clear: Default::default(),
             stats: SolverStats::default(),
         }
     }
@@ -191,19 +285,14 @@ impl ContactSolver {
     /// Forget the previous solutions (the next solve starts cold).
     pub fn reset(&mut self) {
         self.warm = Default::default();
+        self.clear = Default::default();
     }
 
     /// Whether the `auto` rule asks for the flange pieces of `side`.
-    fn flange_needed(
-        &self,
-        model: &WheelsetContactModel,
-        track: &TrackTables,
-        pose: &WheelsetPose,
-        side: Side,
-    ) -> Result<bool, ContactError> {
+    fn flange_needed(&self, model: &WheelsetContactModel, w: &WheelPosition, side: Side) -> bool {
         match self.options.flange {
-            FlangeSearch::Off => return Ok(false),
-            FlangeSearch::On => return Ok(true),
+            FlangeSearch::Off => return false,
+            FlangeSearch::On => return true,
             FlangeSearch::Auto => {}
         }
         let margin = self.options.auto_margin_m;
@@ -214,23 +303,11 @@ impl ContactSolver {
             .zip(&self.warm[si(side)])
             .any(|(seg, w)| seg.zone == Zone::Flange && w.is_some_and(|w| w.gap_m < margin));
         if flange_warm {
-            return Ok(true);
+            return true;
         }
-        let sigma = match side {
-            Side::Left => -1.0,
-            Side::Right => 1.0,
-        };
-        let l = track.centerline.rail_l(side, pose.s_track_m)?;
-        let rail = track.rail(side).at(l)?;
-        let h = -sigma * model.half_spacing_m(side);
-        let origin = pose.position + pose.frame.column(1) * h;
-        let delta = (origin - rail.position).dot(&rail.frame.n);
-        let spacing = model.placement().rail_spacing_m;
-        let delta0 = -sigma * (model.half_spacing_m(side) - 0.5 * spacing);
-        let approach = -sigma * (delta - delta0);
-        let yaw = pose.frame.column(0).dot(&rail.frame.n).abs();
-        let reach = yaw * (2.0 * wheel.nominal_radius_m() * wheel.flange_depth_m()).sqrt();
-        Ok(approach + reach >= self.options.flange_clearance_m[si(side)] - margin)
+        let reach =
+            w.yaw_rad.abs() * (2.0 * wheel.nominal_radius_m() * wheel.flange_depth_m()).sqrt();
+        w.approach_m + reach >= self.options.flange_clearance_m[si(side)] - margin
     }
 
     /// Solve every piece of both wheels for `pose` (paper Fig. 8 step b),
@@ -244,12 +321,22 @@ impl ContactSolver {
         let mut out = WheelsetContacts::default();
         for side in Side::BOTH {
             let l_now = track.centerline.rail_l(side, pose.s_track_m)?;
-            let flange = self.flange_needed(model, track, pose, side)?;
+            let position = wheel_position(model, track, pose, side)?;
+            let flange = self.flange_needed(model, &position, side);
             for (k, seg) in model.wheel(side).segments().iter().enumerate() {
                 if seg.zone == Zone::Flange && !flange {
                     self.stats.flange_skipped += 1;
                     continue;
                 }
+                let clear = &mut self.clear[si(side)][k];
+                if self.options.reuse_clear_pieces
+                    && self.warm[si(side)][k].is_none()
+                    && clear.is_some_and(|c| c.still_clear(&position, pose.s_track_m))
+                {
+                    self.stats.clear_skipped += 1;
+                    continue;
+                }
+                *clear = None;
                 let warm = &mut self.warm[si(side)][k];
                 let guess = warm.map(|w| w.guess(l_now));
                 let result = model.solve_pair(track, pose, side, k, guess, &self.options)?;
@@ -273,6 +360,10 @@ impl ContactSolver {
                     });
                 } else {
                     *warm = None;
+                    self.clear[si(side)][k] = Some(Clear {
+                        at: position,
+                        s_track_m: pose.s_track_m,
+                    });
                 }
                 out.candidates[si(side)][k] = result;
             }

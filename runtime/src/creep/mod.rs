@@ -177,6 +177,9 @@ impl CreepForces {
 /// A creep law with its parameters, selectable per run (module docs).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum CreepLaw {
+    /// No tangential forces (frictionless contact): for energy checks and
+    /// for scenes that study the normal problem only.
+    None,
     /// Kalker's linear theory (paper eq. 23); no saturation.
     KalkerLinear,
     /// Shen–Hedrick–Elkins heuristic saturation of the Kalker force (paper
@@ -200,12 +203,13 @@ impl Default for CreepLaw {
 
 impl CreepLaw {
     /// The names accepted by [`CreepLaw::from_name`].
-    pub const NAMES: [&'static str; 4] = ["kalker", "heuristic", "polach", "fastsim"];
+    pub const NAMES: [&'static str; 5] = ["kalker", "heuristic", "polach", "fastsim", "none"];
 
-    /// The law of that name (`kalker`, `heuristic`, `polach`, `fastsim`) with
-    /// default parameters.
+    /// The law of that name (`kalker`, `heuristic`, `polach`, `fastsim`,
+    /// `none`) with default parameters.
     pub fn from_name(name: &str) -> Option<CreepLaw> {
         match name {
+            "none" => Some(CreepLaw::None),
             "kalker" => Some(CreepLaw::KalkerLinear),
             "heuristic" => Some(CreepLaw::Heuristic),
             "polach" => Some(CreepLaw::Polach(PolachParams::default())),
@@ -214,9 +218,10 @@ impl CreepLaw {
         }
     }
 
-    /// Short name (`kalker`, `heuristic`, `polach`, `fastsim`).
+    /// Short name (`kalker`, `heuristic`, `polach`, `fastsim`, `none`).
     pub fn name(&self) -> &'static str {
         match self {
+            CreepLaw::None => "none",
             CreepLaw::KalkerLinear => "kalker",
             CreepLaw::Heuristic => "heuristic",
             CreepLaw::Polach(_) => "polach",
@@ -227,7 +232,7 @@ impl CreepLaw {
     /// Checks the law's parameters.
     pub fn validate(&self) -> Result<(), CreepError> {
         match self {
-            CreepLaw::KalkerLinear | CreepLaw::Heuristic => Ok(()),
+            CreepLaw::None | CreepLaw::KalkerLinear | CreepLaw::Heuristic => Ok(()),
             CreepLaw::Polach(p) => p.validate(),
             CreepLaw::Fastsim(p) => p.validate(),
         }
@@ -241,6 +246,7 @@ impl CreepLaw {
             return Ok(CreepForces::ZERO);
         }
         match self {
+            CreepLaw::None => Ok(CreepForces::ZERO),
             CreepLaw::KalkerLinear => kalker::linear_forces(input),
             CreepLaw::Heuristic => heuristic::forces(input),
             CreepLaw::Polach(p) => polach::forces(input, p),

@@ -204,4 +204,10 @@ impl PlacedRailProfile {
     pub fn to_file_m(&self, u_m: f64, z_m: f64) -> (f64, f64) {
         self.mapping.to_file(u_m, z_m)
     }
+
+    /// Placed internal coordinates (m) of a file point (inverse of
+    /// [`Self::to_file_m`]).
+    pub fn from_file_m(&self, y_m: f64, z_m: f64) -> (f64, f64) {
+        self.mapping.from_file(y_m, z_m)
+    }
 }

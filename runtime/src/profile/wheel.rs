@@ -369,6 +369,12 @@ impl WheelProfile {
         self.mapping.to_file(u_m, z_m)
     }
 
+    /// Internal coordinates (m) of a file point (inverse of
+    /// [`Self::to_file_m`]).
+    pub fn from_file_m(&self, y_m: f64, z_m: f64) -> (f64, f64) {
+        self.mapping.from_file(y_m, z_m)
+    }
+
     /// The file the profile came from.
     pub fn path(&self) -> &Path {
         &self.path

@@ -31,14 +31,22 @@
 //!
 //! Files are written atomically: to a hidden temporary name in the target
 //! directory, renamed into place only when complete ([`AtomicFile`]).
+//!
+//! The same module writes and reads the simulation results file (its own
+//! schema, `railsim-results`): see [`results`] for its layout.
 
 mod atomic;
 mod attrs;
 mod columns;
 mod contact_table;
+pub mod results;
 mod track;
 
 pub use atomic::AtomicFile;
+pub use results::{
+    RESULTS_SCHEMA, RESULTS_SCHEMA_VERSION, ResultsError, RunResults, WheelSample, WheelSeries,
+    WheelsetSample, WheelsetSeries, ZoneSample, ZoneSeries, read_results, write_results,
+};
 pub use track::{
     TableFileWriter, read_contact_table, read_provenance, read_track, write_contact_table_file,
     write_track_file,
@@ -88,6 +96,28 @@ pub enum SchemaError {
         path: PathBuf,
         #[source]
         source: TrackError,
+    },
+    #[error(
+        "'{path}' is not a results file of this toolkit (root attribute 'schema' is {}, expected \"railsim-results\")",
+        match found { Some(s) => format!("\"{s}\""), None => "missing".to_string() }
+    )]
+    NotResults {
+        path: PathBuf,
+        found: Option<String>,
+    },
+    #[error(
+        "'{path}' has results schema version {found}, which this build does not read (it reads version {supported}); read it with the version of sim that wrote it"
+    )]
+    UnsupportedResultsVersion {
+        path: PathBuf,
+        found: u32,
+        supported: u32,
+    },
+    #[error("'{path}': the run results are inconsistent: {source}")]
+    InvalidResults {
+        path: PathBuf,
+        #[source]
+        source: results::ResultsError,
     },
     #[error("cannot write '{path}': {source}")]
     Io {

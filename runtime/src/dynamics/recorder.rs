@@ -1,0 +1,165 @@
+//! Sampled outputs of a run (SPEC §8 outputs; the results file layout is
+//! [`crate::schema::results`]): at every output time the system is
+//! evaluated at the (interpolated) state and each wheelset's track-relative
+//! position and each wheel's contacts are appended to a
+//! [`RunResults`].
+
+use super::system::{DynamicsError, VehicleSystem, WheelsetSnapshot};
+use super::track_motion::track_rotation;
+use crate::profile::{MAX_SEGMENTS, Zone};
+use crate::schema::results::{RunResults, WheelSample, WheelsetSample, ZoneSample};
+use crate::track::Side;
+
+/// Collects the samples of a run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Recorder {
+    pub results: RunResults,
+    /// Track distance of each wheelset and rail arc length of each wheel's
+    /// contact at the first sample (m).
+    origin: Option<Vec<(f64, [f64; 2])>>,
+}
+
+impl Recorder {
+    /// An empty record for the vehicle's wheelsets.
+    pub fn new(system: &VehicleSystem<'_>) -> Self {
+        Recorder {
+            results: RunResults::with_wheelsets(
+                system.vehicle().wheelsets.iter().map(|w| w.name.clone()),
+            ),
+            origin: None,
+        }
+    }
+
+    /// Evaluates the system at (t, y) and appends the sample.
+    pub fn record(
+        &mut self,
+        system: &mut VehicleSystem<'_>,
+        t: f64,
+        y: &[f64],
+    ) -> Result<(), DynamicsError> {
+        system.evaluate(t, y)?;
+        let track = system.track();
+        let snapshots = system.snapshots();
+        let wheel_l = |snap: &WheelsetSnapshot, side: Side| -> Result<f64, DynamicsError> {
+            let k = side_index(side);
+            if let Some(c) = main_contact(snap, k, Zone::Tread) {
+                return Ok(c.0.params.s_rail_m);
+            }
+            track
+                .centerline
+                .rail_l(side, snap.relative.s_m)
+                .map_err(|source| DynamicsError::Track {
+                    what: "wheel travelled distance".into(),
+                    t_s: t,
+                    source,
+                })
+        };
+        if self.origin.is_none() {
+            let mut o = Vec::new();
+            for snap in snapshots {
+                o.push((
+                    snap.relative.s_m,
+                    [wheel_l(snap, Side::Left)?, wheel_l(snap, Side::Right)?],
+                ));
+            }
+            self.origin = Some(o);
+        }
+        let origin = self.origin.as_ref().expect("set above");
+        let mut samples = Vec::with_capacity(snapshots.len());
+        for (snap, (s0, l0)) in snapshots.iter().zip(origin) {
+            let r = &snap.relative;
+            let frame = track_rotation(&track.centerline, r.s_m).map_err(|source| {
+                DynamicsError::Track {
+                    what: "recording".into(),
+                    t_s: t,
+                    source,
+                }
+            })?;
+            let (n, b) = (frame.column(1), frame.column(2));
+            let mut wheels = [WheelSample::default(); 2];
+            for side in Side::BOTH {
+                let k = side_index(side);
+                let mut zones = [ZoneSample::NO_CONTACT; 2];
+                for (z, zone) in [Zone::Tread, Zone::Flange].into_iter().enumerate() {
+                    let Some((c, f)) = main_contact(snap, k, zone) else {
+                        continue;
+                    };
+                    // Forces of every piece of the zone in contact.
+                    let mut lateral = 0.0;
+                    let mut vertical = 0.0;
+                    let mut normal = 0.0;
+                    for seg in 0..MAX_SEGMENTS {
+                        if let (Some(cc), Some(ff)) =
+                            (snap.contacts.candidates[k][seg], snap.forces[k][seg])
+                            && cc.zone == zone
+                        {
+                            lateral += ff.force_on_wheel_n.dot(&n);
+                            vertical += ff.force_on_wheel_n.dot(&b);
+                            normal += ff.normal.force_n;
+                        }
+                    }
+                    let cr = &f.tangential.creepages;
+                    zones[z] = ZoneSample {
+                        in_contact: true,
+                        normal_n: normal,
+                        fx_n: f.tangential.creep.fx_n,
+                        fy_n: f.tangential.creep.fy_n,
+                        mz_nm: f.tangential.creep.mz_nm,
+                        lateral_force_n: lateral,
+                        vertical_force_n: vertical,
+                        xi: cr.xi,
+                        eta: cr.eta,
+                        phi_1_m: cr.phi_1_m,
+                        y_wheel_m: c.wheel_profile_point_m.0,
+                        y_rail_m: c.rail_profile_point_m.0,
+                        contact_angle_rad: c.contact_angle_rad,
+                    };
+                }
+                wheels[k] = WheelSample {
+                    travelled_m: wheel_l(snap, side)? - l0[k],
+                    zones,
+                };
+            }
+            samples.push(WheelsetSample {
+                lateral_m: r.lateral_m,
+                yaw_rad: r.yaw_rad,
+                roll_rad: r.roll_rad,
+                distance_m: r.s_m - s0,
+                speed_m_s: r.forward_speed_m_s,
+                wheels,
+            });
+        }
+        self.results
+            .push(t, &samples)
+            .map_err(|e| DynamicsError::Assembly {
+                wheelset: "(recorder)".into(),
+                reason: e.to_string(),
+            })
+    }
+}
+
+fn side_index(side: Side) -> usize {
+    match side {
+        Side::Left => 0,
+        Side::Right => 1,
+    }
+}
+
+/// The zone's piece in contact carrying the largest normal force.
+fn main_contact(
+    snap: &WheelsetSnapshot,
+    k: usize,
+    zone: Zone,
+) -> Option<(
+    crate::contact::Candidate,
+    crate::contact_force::ContactForce,
+)> {
+    (0..MAX_SEGMENTS)
+        .filter_map(
+            |seg| match (snap.contacts.candidates[k][seg], snap.forces[k][seg]) {
+                (Some(c), Some(f)) if c.zone == zone => Some((c, f)),
+                _ => None,
+            },
+        )
+        .max_by(|a, b| a.1.normal.force_n.total_cmp(&b.1.normal.force_n))
+}

@@ -1,0 +1,387 @@
+//! The simulation results file: round trip, layout seen by h5dump,
+//! validation and schema checks.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::{RwLock, RwLockReadGuard};
+
+use runtime::schema::{
+    RESULTS_SCHEMA_VERSION, ResultsError, RunResults, SchemaError, WheelSample, WheelsetSample,
+    ZoneSample, read_results, write_results,
+};
+
+/// Spawning `h5dump` forks this process: the child inherits the file
+/// descriptors (and HDF5's file locks) of files other tests have open at
+/// that moment, which then fail to open their files. The h5dump test takes
+/// this lock exclusively, the others shared.
+static SPAWN: RwLock<()> = RwLock::new(());
+
+fn shared() -> RwLockReadGuard<'static, ()> {
+    SPAWN.read().unwrap_or_else(|e| e.into_inner())
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A zone sample whose every value is distinct (so a swapped column is
+/// caught), in contact on a pattern that depends on `k`.
+fn zone(k: usize, seed: f64, in_contact: bool) -> ZoneSample {
+    let v = |j: f64| seed + 0.01 * j + 1e-3 * k as f64;
+    ZoneSample {
+        in_contact,
+        normal_n: v(1.0) * 1e4,
+        fx_n: v(2.0),
+        fy_n: v(3.0),
+        mz_nm: v(4.0),
+        lateral_force_n: v(5.0),
+        vertical_force_n: v(6.0),
+        xi: v(7.0),
+        eta: v(8.0),
+        phi_1_m: v(9.0),
+        y_wheel_m: v(10.0),
+        y_rail_m: v(11.0),
+        contact_angle_rad: v(12.0),
+    }
+}
+
+/// Two wheelsets, `n` samples at 1 kHz, flange contact now and then.
+fn synthetic(n: usize) -> RunResults {
+    let mut r = RunResults::with_wheelsets(["leading", "trailing"]);
+    r.scene_toml = "[vehicle]\nkind = \"bogie\"\n# ünïcödé: ξ η φ\n".into();
+    r.attributes = vec![
+        ("creep_law".into(), "polach".into()),
+        ("integrator".into(), "rk4".into()),
+        ("speed_m_s".into(), "36".into()),
+        ("a_first_by_name_last_by_order".into(), "x".into()),
+    ];
+    for k in 0..n {
+        let t = k as f64 * 1e-3;
+        let samples: Vec<WheelsetSample> = (0..2)
+            .map(|w| {
+                let seed = 10.0 * w as f64;
+                let wheel = |side: usize| WheelSample {
+                    travelled_m: 36.0 * t + 0.001 * side as f64,
+                    zones: [
+                        zone(k, seed + side as f64, k % 7 != 3),
+                        zone(k, seed + 5.0 + side as f64, k % 5 == side),
+                    ],
+                };
+                WheelsetSample {
+                    lateral_m: 0.002 * (t * 10.0 + w as f64).sin(),
+                    yaw_rad: 1e-3 * t,
+                    roll_rad: -1e-4 * t,
+                    distance_m: 36.0 * t,
+                    speed_m_s: 36.0,
+                    wheels: [wheel(0), wheel(1)],
+                }
+            })
+            .collect();
+        r.push(t, &samples).unwrap();
+    }
+    r
+}
+
+/// Bitwise equality of two f64 series (NaN positions included).
+fn same_bits(a: &[f64], b: &[f64]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+}
+
+fn assert_same(a: &RunResults, b: &RunResults) {
+    assert!(same_bits(&a.time_s, &b.time_s));
+    assert_eq!(a.scene_toml, b.scene_toml);
+    assert_eq!(a.attributes, b.attributes);
+    assert_eq!(a.wheelsets.len(), b.wheelsets.len());
+    for (x, y) in a.wheelsets.iter().zip(&b.wheelsets) {
+        assert_eq!(x.name, y.name);
+        for (p, q) in [
+            (&x.lateral_m, &y.lateral_m),
+            (&x.yaw_rad, &y.yaw_rad),
+            (&x.roll_rad, &y.roll_rad),
+            (&x.distance_m, &y.distance_m),
+            (&x.speed_m_s, &y.speed_m_s),
+        ] {
+            assert!(same_bits(p, q));
+        }
+        for (wx, wy) in x.wheels.iter().zip(&y.wheels) {
+            assert!(same_bits(&wx.travelled_m, &wy.travelled_m));
+            assert_eq!(wx.flange_contact, wy.flange_contact);
+            for (zx, zy) in wx.zones.iter().zip(&wy.zones) {
+                assert_eq!(zx.in_contact, zy.in_contact);
+                for i in 0..a.len() {
+                    let (sx, sy) = (zx.sample(i).unwrap(), zy.sample(i).unwrap());
+                    let bits = |s: &ZoneSample| {
+                        [
+                            s.normal_n,
+                            s.fx_n,
+                            s.fy_n,
+                            s.mz_nm,
+                            s.lateral_force_n,
+                            s.vertical_force_n,
+                            s.xi,
+                            s.eta,
+                            s.phi_1_m,
+                            s.y_wheel_m,
+                            s.y_rail_m,
+                            s.contact_angle_rad,
+                        ]
+                        .map(f64::to_bits)
+                    };
+                    assert_eq!(bits(&sx), bits(&sy), "sample {i}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn results_round_trip_is_exact() {
+    let _guard = shared();
+    let dir = scratch("results_round_trip");
+    let path = dir.join("run.h5");
+    let r = synthetic(500);
+    r.validate().unwrap();
+    // The pattern gives both flags and NaN gaps.
+    let flange = &r.wheelsets[0].wheels[0].zones[1];
+    assert!(flange.in_contact.contains(&1) && flange.in_contact.contains(&0));
+    assert!(flange.normal_n.iter().any(|v| v.is_nan()));
+    assert_eq!(
+        r.wheelsets[0].wheels[0].flange_contact, flange.in_contact,
+        "the flange flag follows the flange zone"
+    );
+
+    write_results(&path, &r).unwrap();
+    let back = read_results(&path).unwrap();
+    assert_same(&r, &back);
+    assert_eq!(back.len(), 500);
+    assert_eq!(back.attribute("creep_law"), Some("polach"));
+    // No temporary left behind.
+    let names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(names, ["run.h5"]);
+}
+
+#[test]
+fn results_round_trip_of_an_empty_run() {
+    let _guard = shared();
+    let dir = scratch("results_empty");
+    let path = dir.join("empty.h5");
+    let r = RunResults::with_wheelsets(["only"]);
+    assert!(r.is_empty());
+    write_results(&path, &r).unwrap();
+    let back = read_results(&path).unwrap();
+    assert_eq!(back, r);
+}
+
+#[test]
+fn results_out_of_contact_samples_are_nan() {
+    let mut r = RunResults::with_wheelsets(["w"]);
+    let mut s = WheelsetSample::default();
+    s.wheels[0].zones[0] = ZoneSample {
+        in_contact: false,
+        ..zone(0, 1.0, true)
+    };
+    r.push(0.0, &[s]).unwrap();
+    let z = &r.wheelsets[0].wheels[0].zones[0];
+    assert_eq!(z.in_contact, [0]);
+    assert!(z.normal_n[0].is_nan() && z.xi[0].is_nan());
+    assert!(matches!(
+        r.push(0.001, &[s, s]),
+        Err(ResultsError::WheelsetCount {
+            expected: 1,
+            found: 2
+        })
+    ));
+    assert_eq!(r.len(), 1, "a refused push appends nothing");
+}
+
+#[test]
+fn results_h5dump_shows_the_layout() {
+    let _guard = SPAWN.write().unwrap_or_else(|e| e.into_inner());
+    let dir = scratch("results_h5dump");
+    let path = dir.join("run.h5");
+    write_results(&path, &synthetic(20)).unwrap();
+    let out = match Command::new("h5dump").arg("-H").arg(&path).output() {
+        Ok(o) => o,
+        Err(e) => panic!("h5dump (hdf5-tools) is needed for this test: {e}"),
+    };
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    for needle in [
+        "GROUP \"/\"",
+        "ATTRIBUTE \"schema\"",
+        "ATTRIBUTE \"schema_version\"",
+        "ATTRIBUTE \"tool_version\"",
+        "ATTRIBUTE \"creep_law\"",
+        "DATASET \"time_s\"",
+        "DATASET \"scene\"",
+        "GROUP \"wheelset_0\"",
+        "GROUP \"wheelset_1\"",
+        "GROUP \"left\"",
+        "GROUP \"right\"",
+        "GROUP \"tread\"",
+        "GROUP \"flange\"",
+        "DATASET \"lateral_m\"",
+        "DATASET \"travelled_m\"",
+        "DATASET \"flange_contact\"",
+        "DATASET \"lateral_force_n\"",
+        "DATASET \"phi_1_m\"",
+        "DATASET \"contact_angle_rad\"",
+        "ATTRIBUTE \"units\"",
+        "ATTRIBUTE \"description\"",
+        "DATASPACE  SIMPLE { ( 20 ) / ( 20 ) }",
+        "H5T_STD_U8LE",
+        "H5T_IEEE_F64LE",
+    ] {
+        assert!(text.contains(needle), "h5dump -H lacks {needle}:\n{text}");
+    }
+    // Every wheel has 2 zones × 13 datasets + 2: 28 per wheel, 56 + 5 per
+    // wheelset, plus time_s and scene.
+    assert_eq!(text.matches("DATASET \"").count(), 2 * (5 + 2 * 28) + 2);
+
+    // The values, not just the header: schema and a units attribute.
+    let out = Command::new("h5dump")
+        .args([
+            "-a",
+            "/schema",
+            "-a",
+            "/wheelset_0/left/tread/phi_1_m/units",
+        ])
+        .arg(&path)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("\"railsim-results\""), "{text}");
+    assert!(text.contains("\"1/m\""), "{text}");
+}
+
+#[test]
+fn results_mismatched_lengths_are_refused() {
+    let _guard = shared();
+    let dir = scratch("results_mismatch");
+    let path = dir.join("bad.h5");
+    let mut r = synthetic(10);
+    r.wheelsets[1].wheels[1].zones[0].eta.pop();
+    let e = r.validate().unwrap_err();
+    assert_eq!(
+        e,
+        ResultsError::LengthMismatch {
+            series: "wheelset_1/right/tread/eta".into(),
+            len: 9,
+            expected: 10
+        }
+    );
+    let e = write_results(&path, &r).unwrap_err();
+    assert!(
+        matches!(e, SchemaError::InvalidResults { .. }),
+        "unexpected error {e}"
+    );
+    assert!(e.to_string().contains("wheelset_1/right/tread/eta"), "{e}");
+    assert!(!path.exists(), "nothing written");
+
+    let mut r = synthetic(10);
+    r.wheelsets[0].wheels[0].flange_contact.push(1);
+    assert!(matches!(
+        r.validate(),
+        Err(ResultsError::LengthMismatch { .. })
+    ));
+
+    let mut r = synthetic(10);
+    r.wheelsets[0].wheels[0].zones[1].in_contact[3] = 2;
+    assert!(matches!(
+        r.validate(),
+        Err(ResultsError::FlagValue {
+            index: 3,
+            value: 2,
+            ..
+        })
+    ));
+
+    let mut r = synthetic(10);
+    r.time_s[4] = r.time_s[2];
+    assert!(matches!(
+        r.validate(),
+        Err(ResultsError::TimeDecreasing { index: 4, .. })
+    ));
+
+    let mut r = synthetic(10);
+    r.attributes.push(("schema".into(), "mine".into()));
+    assert!(matches!(r.validate(), Err(ResultsError::Attribute { .. })));
+    let mut r = synthetic(10);
+    r.attributes.push(("integrator".into(), "dopri5".into()));
+    assert!(matches!(r.validate(), Err(ResultsError::Attribute { .. })));
+}
+
+#[test]
+fn results_unknown_schema_version_is_refused() {
+    let _guard = shared();
+    let dir = scratch("results_version");
+    let path = dir.join("future.h5");
+    write_results(&path, &synthetic(5)).unwrap();
+    {
+        let f = hdf5::File::open_rw(&path).unwrap();
+        f.delete_attr("schema_version").unwrap();
+        f.new_attr::<u32>()
+            .shape(())
+            .create("schema_version")
+            .unwrap()
+            .write_scalar(&(RESULTS_SCHEMA_VERSION + 1))
+            .unwrap();
+    }
+    let e = read_results(&path).unwrap_err();
+    match &e {
+        SchemaError::UnsupportedResultsVersion {
+            found, supported, ..
+        } => {
+            assert_eq!(*found, RESULTS_SCHEMA_VERSION + 1);
+            assert_eq!(*supported, RESULTS_SCHEMA_VERSION);
+        }
+        other => panic!("unexpected error {other}"),
+    }
+    assert!(e.to_string().contains("version 2"), "{e}");
+}
+
+#[test]
+fn results_reader_refuses_other_files() {
+    let _guard = shared();
+    let dir = scratch("results_other");
+    let path = dir.join("table.h5");
+    {
+        let f = hdf5::File::create(&path).unwrap();
+        f.new_attr::<u32>()
+            .shape(())
+            .create("schema_version")
+            .unwrap()
+            .write_scalar(&1u32)
+            .unwrap();
+    }
+    let e = read_results(&path).unwrap_err();
+    assert!(
+        matches!(e, SchemaError::NotResults { found: None, .. }),
+        "{e}"
+    );
+
+    // A truncated dataset in an otherwise valid file names the dataset.
+    let path = dir.join("truncated.h5");
+    write_results(&path, &synthetic(5)).unwrap();
+    {
+        let f = hdf5::File::open_rw(&path).unwrap();
+        let g = f.group("wheelset_0/left").unwrap();
+        g.unlink("travelled_m").unwrap();
+        g.new_dataset_builder()
+            .with_data(&[1.0_f64, 2.0][..])
+            .create("travelled_m")
+            .unwrap();
+    }
+    let e = read_results(&path).unwrap_err();
+    assert!(matches!(e, SchemaError::Invalid { .. }), "{e}");
+    assert!(
+        e.to_string().contains("/wheelset_0/left/travelled_m"),
+        "{e}"
+    );
+}

@@ -1,0 +1,434 @@
+//! Vehicle files (`tables/vehicles/*.toml`): a vehicle is data — its
+//! bodies, wheelsets, track-following references and suspension elements —
+//! so a full car is a file, not code (SPEC §8).
+//!
+//! # Coordinates
+//!
+//! Positions are given at the **assembly configuration**: the vehicle
+//! standing centred on straight, level track, in the vehicle's reference
+//! frame — origin on the track centreline in the plane of the rail tops
+//! under the vehicle's reference point, x forward (direction of travel),
+//! y to the left, z up (SPEC §1). A wheelset's height is not given: it is
+//! settled on the rails under its static load before the run.
+//!
+//! # Format
+//!
+//! ```toml
+//! name = "ML95-like bogie"
+//! description = "…"                # optional
+//!
+//! [[wheelsets]]
+//! name = "front"
+//! x_m = 1.0                        # axle position ahead of the reference point (m)
+//! mass_kg = 1100.0
+//! inertia_kg_m2 = [650.0, 90.0, 650.0]  # roll (x), spin (y, the axle), yaw (z) about the CG
+//! wheel_profile = "../profiles/ml95_like_wheel.csv"  # relative to this file
+//! back_to_back_m = 1.360           # flange back to flange back (m)
+//! nominal_radius_m = 0.43          # rolling radius at the taping line (m)
+//!
+//! [[bodies]]                       # free rigid bodies (6 DOF)
+//! name = "frame"
+//! cg_m = [0.0, 0.0, 0.60]          # centre of gravity (m)
+//! mass_kg = 2500.0
+//! inertia_kg_m2 = [1500.0, 1700.0, 3000.0]  # principal, about x, y, z through the CG
+//!
+//! [[references]]                   # bodies moving with the track at the run's speed
+//! name = "car"
+//! origin_m = [0.0, 0.0, 1.5]       # origin of its axes (m)
+//!
+//! [[elements]]                     # linear spring–dampers
+//! name = "primary front left"
+//! body_a = "frame"                 # its axes give the x, y, z of stiffness and damping
+//! body_b = "front"                 # a body, wheelset or reference name
+//! point_m = [1.0, 1.0, 0.43]       # attachment point (or point_a_m and point_b_m)
+//! stiffness_n_m = [1.0e7, 5.0e6, 1.2e6]
+//! damping_n_s_m = [0.0, 0.0, 1.0e4]
+//! preload_n = [0.0, 0.0, -45000.0] # force on body_b at assembly, in body_a's axes
+//! ```
+//!
+//! `body_a` or `body_b` may also be `"ground"` (a fixed point). Element
+//! preloads must hold every free body in static equilibrium at assembly
+//! (checked by [`VehicleFile::validate`], which names the body and the net
+//! force); wheelsets take their static wheel loads from the elements acting
+//! on them plus their own weight.
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, bail, ensure};
+use serde::Deserialize;
+
+/// A wheelset entry.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WheelsetEntry {
+    pub name: String,
+    /// Axle position ahead of the vehicle reference point (m).
+    pub x_m: f64,
+    /// Lateral position at assembly (m); 0 for a centred vehicle.
+    #[serde(default)]
+    pub y_m: f64,
+    pub mass_kg: f64,
+    /// Principal moments of inertia about the CG: roll (x), spin (y, along
+    /// the axle), yaw (z) (kg·m²).
+    pub inertia_kg_m2: [f64; 3],
+    /// Wheel profile file, relative to the vehicle file (both wheels; the
+    /// left one is the mirror image).
+    pub wheel_profile: PathBuf,
+    /// Distance between the flange backs (m).
+    pub back_to_back_m: f64,
+    /// Rolling radius at the taping line (m).
+    pub nominal_radius_m: f64,
+}
+
+/// A free rigid body.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodyEntry {
+    pub name: String,
+    /// Centre of gravity at assembly (m).
+    pub cg_m: [f64; 3],
+    pub mass_kg: f64,
+    /// Principal moments of inertia about x, y, z through the CG (kg·m²).
+    pub inertia_kg_m2: [f64; 3],
+}
+
+/// A body that follows the track at the run's speed (e.g. the car body's
+/// share above a single bogie).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ReferenceEntry {
+    pub name: String,
+    /// Origin of its axes at assembly (m); its axes are the track frame.
+    pub origin_m: [f64; 3],
+}
+
+/// A linear spring–damper (SPEC §8).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ElementEntry {
+    pub name: String,
+    /// Body whose axes give the element's x, y, z directions.
+    pub body_a: String,
+    pub body_b: String,
+    /// Common attachment point (m), or the two below.
+    #[serde(default)]
+    pub point_m: Option<[f64; 3]>,
+    #[serde(default)]
+    pub point_a_m: Option<[f64; 3]>,
+    #[serde(default)]
+    pub point_b_m: Option<[f64; 3]>,
+    /// Stiffness along a's x, y, z (N/m).
+    pub stiffness_n_m: [f64; 3],
+    /// Damping along a's x, y, z (N·s/m).
+    #[serde(default)]
+    pub damping_n_s_m: [f64; 3],
+    /// Force on body_b at assembly, in a's axes (N).
+    #[serde(default)]
+    pub preload_n: [f64; 3],
+}
+
+impl ElementEntry {
+    /// The attachment points on a and on b at assembly (m).
+    pub fn points(&self) -> Result<([f64; 3], [f64; 3])> {
+        match (self.point_m, self.point_a_m, self.point_b_m) {
+            (Some(p), None, None) => Ok((p, p)),
+            (None, Some(a), Some(b)) => Ok((a, b)),
+            _ => bail!(
+                "element '{}': give either point_m, or both point_a_m and point_b_m",
+                self.name
+            ),
+        }
+    }
+}
+
+/// A vehicle file as written.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VehicleFile {
+    pub name: String,
+    #[serde(default)]
+    pub description: String,
+    pub wheelsets: Vec<WheelsetEntry>,
+    #[serde(default)]
+    pub bodies: Vec<BodyEntry>,
+    #[serde(default)]
+    pub references: Vec<ReferenceEntry>,
+    #[serde(default)]
+    pub elements: Vec<ElementEntry>,
+    /// Directory the file was read from (profile paths are relative to it).
+    #[serde(skip)]
+    pub dir: PathBuf,
+}
+
+/// Name of the fixed ground, usable as an element end.
+pub const GROUND: &str = "ground";
+
+/// Standard gravity (m/s²), SPEC §1.
+pub const GRAVITY_M_S2: f64 = 9.81;
+
+impl VehicleFile {
+    /// Reads and checks a vehicle file.
+    pub fn load(path: &Path) -> Result<VehicleFile> {
+        let text = std::fs::read_to_string(path)
+            .with_context(|| format!("reading the vehicle file {}", path.display()))?;
+        let mut v = Self::parse(&text)
+            .with_context(|| format!("in the vehicle file {}", path.display()))?;
+        v.dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        v.validate()
+            .with_context(|| format!("in the vehicle file {}", path.display()))?;
+        Ok(v)
+    }
+
+    /// Parses the TOML text (no checks beyond the format).
+    pub fn parse(text: &str) -> Result<VehicleFile> {
+        Ok(toml::from_str(text)?)
+    }
+
+    /// A wheel profile path resolved against the file's directory.
+    pub fn profile_path(&self, w: &WheelsetEntry) -> PathBuf {
+        self.dir.join(&w.wheel_profile)
+    }
+
+    /// Checks every rule, naming the entry and the rule violated: names
+    /// unique and known, masses and inertias positive (principal moments
+    /// obeying the triangle inequality), geometry finite and plausible,
+    /// element coefficients ≥ 0, and every free body in static equilibrium
+    /// at assembly under gravity and the element preloads (within 0.5 % of
+    /// its weight, or 1 N).
+    pub fn validate(&self) -> Result<()> {
+        ensure!(
+            !self.wheelsets.is_empty(),
+            "a vehicle needs at least one wheelset"
+        );
+        let mut names = BTreeSet::new();
+        let all = self
+            .wheelsets
+            .iter()
+            .map(|w| &w.name)
+            .chain(self.bodies.iter().map(|b| &b.name))
+            .chain(self.references.iter().map(|r| &r.name));
+        for n in all {
+            ensure!(!n.is_empty(), "a body has an empty name");
+            ensure!(n != GROUND, "'{GROUND}' is reserved for the fixed ground");
+            ensure!(names.insert(n.clone()), "two bodies are named '{n}'");
+        }
+        let inertia_ok = |i: &[f64; 3]| {
+            i.iter().all(|v| v.is_finite() && *v > 0.0)
+                && i[0] + i[1] >= i[2]
+                && i[1] + i[2] >= i[0]
+                && i[0] + i[2] >= i[1]
+        };
+        for w in &self.wheelsets {
+            let n = &w.name;
+            ensure!(
+                w.mass_kg.is_finite() && w.mass_kg > 0.0,
+                "wheelset '{n}': mass_kg must be > 0, got {}",
+                w.mass_kg
+            );
+            ensure!(
+                inertia_ok(&w.inertia_kg_m2),
+                "wheelset '{n}': inertia_kg_m2 {:?} must be positive and obey the triangle inequality",
+                w.inertia_kg_m2
+            );
+            ensure!(
+                w.x_m.is_finite() && w.y_m.is_finite() && w.y_m.abs() < 0.05,
+                "wheelset '{n}': x_m must be finite and |y_m| < 0.05 m"
+            );
+            ensure!(
+                w.nominal_radius_m > 0.1 && w.nominal_radius_m < 1.0,
+                "wheelset '{n}': nominal_radius_m {} is outside 0.1 … 1 m",
+                w.nominal_radius_m
+            );
+            ensure!(
+                w.back_to_back_m > 0.5 && w.back_to_back_m < 2.0,
+                "wheelset '{n}': back_to_back_m {} is outside 0.5 … 2 m",
+                w.back_to_back_m
+            );
+        }
+        for b in &self.bodies {
+            let n = &b.name;
+            ensure!(
+                b.mass_kg.is_finite() && b.mass_kg > 0.0,
+                "body '{n}': mass_kg must be > 0, got {}",
+                b.mass_kg
+            );
+            ensure!(
+                inertia_ok(&b.inertia_kg_m2),
+                "body '{n}': inertia_kg_m2 {:?} must be positive and obey the triangle inequality",
+                b.inertia_kg_m2
+            );
+            ensure!(
+                b.cg_m.iter().all(|v| v.is_finite()),
+                "body '{n}': cg_m must be finite"
+            );
+        }
+        for r in &self.references {
+            ensure!(
+                r.origin_m.iter().all(|v| v.is_finite()),
+                "reference '{}': origin_m must be finite",
+                r.name
+            );
+        }
+        for e in &self.elements {
+            let n = &e.name;
+            for end in [&e.body_a, &e.body_b] {
+                ensure!(
+                    end == GROUND || names.contains(end),
+                    "element '{n}': unknown body '{end}'"
+                );
+            }
+            ensure!(
+                e.body_a != e.body_b,
+                "element '{n}': body_a and body_b are the same"
+            );
+            let (pa, pb) = e.points()?;
+            ensure!(
+                pa.iter().chain(&pb).all(|v| v.is_finite()),
+                "element '{n}': attachment points must be finite"
+            );
+            for (what, v) in [
+                ("stiffness_n_m", e.stiffness_n_m),
+                ("damping_n_s_m", e.damping_n_s_m),
+            ] {
+                ensure!(
+                    v.iter().all(|x| x.is_finite() && *x >= 0.0),
+                    "element '{n}': {what} {v:?} must be finite and >= 0"
+                );
+            }
+            ensure!(
+                e.preload_n.iter().all(|x| x.is_finite()),
+                "element '{n}': preload_n must be finite"
+            );
+        }
+        self.check_static_equilibrium()
+    }
+
+    /// Net force (N) on a body at assembly from gravity and the preloads.
+    /// At assembly every body's axes are the track axes, so an element's
+    /// preload (given in a's axes) is the global force on b.
+    pub fn static_force_on(&self, name: &str, mass_kg: f64) -> [f64; 3] {
+        let mut f = [0.0, 0.0, -mass_kg * GRAVITY_M_S2];
+        for e in &self.elements {
+            let sign = if e.body_b == name {
+                1.0
+            } else if e.body_a == name {
+                -1.0
+            } else {
+                continue;
+            };
+            for (fk, pk) in f.iter_mut().zip(e.preload_n) {
+                *fk += sign * pk;
+            }
+        }
+        f
+    }
+
+    fn check_static_equilibrium(&self) -> Result<()> {
+        for b in &self.bodies {
+            let f = self.static_force_on(&b.name, b.mass_kg);
+            let tol = (0.005 * b.mass_kg * GRAVITY_M_S2).max(1.0);
+            let net = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
+            if net > tol {
+                bail!(
+                    "body '{}' is not in static equilibrium at assembly: net force [{:.1}, {:.1}, {:.1}] N from gravity and the element preloads (allowed {:.1} N); the preload_n of the elements on it must carry its weight and what it supports",
+                    b.name,
+                    f[0],
+                    f[1],
+                    f[2],
+                    tol
+                );
+            }
+        }
+        for w in &self.wheelsets {
+            let f = self.static_force_on(&w.name, w.mass_kg);
+            ensure!(
+                f[2] < 0.0,
+                "wheelset '{}': the elements lift it off the rails at assembly (net vertical force {:.1} N)",
+                w.name,
+                f[2]
+            );
+        }
+        Ok(())
+    }
+
+    /// Static vertical load of one wheel of a wheelset (N): half of its
+    /// weight plus the vertical preloads acting on it.
+    pub fn static_wheel_load_n(&self, w: &WheelsetEntry) -> f64 {
+        -0.5 * self.static_force_on(&w.name, w.mass_kg)[2]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const WHEELSET: &str = r#"
+        name = "test wheelset"
+        [[wheelsets]]
+        name = "ws"
+        x_m = 0.0
+        mass_kg = 1000.0
+        inertia_kg_m2 = [600.0, 100.0, 600.0]
+        wheel_profile = "wheel.csv"
+        back_to_back_m = 1.36
+        nominal_radius_m = 0.43
+    "#;
+
+    #[test]
+    fn a_bare_wheelset_parses_and_validates() {
+        let v = VehicleFile::parse(WHEELSET).unwrap();
+        v.validate().unwrap();
+        let load = v.static_wheel_load_n(&v.wheelsets[0]);
+        assert!((load - 0.5 * 1000.0 * GRAVITY_M_S2).abs() < 1e-9);
+    }
+
+    #[test]
+    fn unknown_fields_and_bad_values_are_named() {
+        let bad = WHEELSET.replace("mass_kg = 1000.0", "mass_kg = 1000.0\nmass_lb = 3.0");
+        assert!(VehicleFile::parse(&bad).is_err());
+        let bad = WHEELSET.replace("mass_kg = 1000.0", "mass_kg = -1.0");
+        let e = VehicleFile::parse(&bad).unwrap().validate().unwrap_err();
+        assert!(e.to_string().contains("mass_kg"), "{e}");
+        let bad = WHEELSET.replace("[600.0, 100.0, 600.0]", "[600.0, 100.0, 2000.0]");
+        let e = VehicleFile::parse(&bad).unwrap().validate().unwrap_err();
+        assert!(e.to_string().contains("triangle"), "{e}");
+    }
+
+    #[test]
+    fn static_equilibrium_is_checked() {
+        let text = format!(
+            "{WHEELSET}
+            [[bodies]]
+            name = \"frame\"
+            cg_m = [0.0, 0.0, 0.6]
+            mass_kg = 2000.0
+            inertia_kg_m2 = [1000.0, 1000.0, 1500.0]
+            [[elements]]
+            name = \"spring\"
+            body_a = \"frame\"
+            body_b = \"ws\"
+            point_m = [0.0, 0.0, 0.43]
+            stiffness_n_m = [1e6, 1e6, 1e6]
+            preload_n = [0.0, 0.0, PRELOAD]
+            "
+        );
+        // The spring pushes the wheelset down with the frame's weight: the
+        // frame is held up (reaction on a = −preload).
+        let ok = text.replace("PRELOAD", &format!("{}", -2000.0 * GRAVITY_M_S2));
+        let v = VehicleFile::parse(&ok).unwrap();
+        v.validate().unwrap();
+        let load = v.static_wheel_load_n(&v.wheelsets[0]);
+        assert!((load - 0.5 * 3000.0 * GRAVITY_M_S2).abs() < 1e-6);
+        let bad = text.replace("PRELOAD", "-1000.0");
+        let e = VehicleFile::parse(&bad).unwrap().validate().unwrap_err();
+        assert!(e.to_string().contains("static equilibrium"), "{e}");
+        assert!(e.to_string().contains("frame"), "{e}");
+        let unknown = ok.replace("body_b = \"ws\"", "body_b = \"rear\"");
+        let e = VehicleFile::parse(&unknown)
+            .unwrap()
+            .validate()
+            .unwrap_err();
+        assert!(e.to_string().contains("unknown body 'rear'"), "{e}");
+    }
+}
