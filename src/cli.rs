@@ -20,6 +20,8 @@ pub enum Command {
     Contact(ContactArgs),
     /// Creep curves (force / μN against creepage) of every creep law for one contact ellipse.
     CreepCurves(CreepCurveArgs),
+    /// Run a scene: a wheelset or bogie on the track; results (HDF5), plots, summary.
+    Run(RunArgs),
     /// Print both rails' interpolated position and frame at a centreline distance.
     Probe {
         /// Track table file written by `track-preproc build`.
@@ -98,6 +100,69 @@ pub struct ContactArgs {
     /// Print JSON.
     #[arg(long)]
     pub json: bool,
+}
+
+/// Arguments of `sim run`.
+#[derive(Debug, clap::Args)]
+pub struct RunArgs {
+    /// Scene file (TOML); without it, the paper's single-wheelset case on the shipped data.
+    #[arg(value_name = "SCENE.toml")]
+    pub scene: Option<PathBuf>,
+    /// Results file (HDF5) [default: <scene name>.h5 in the current directory].
+    #[arg(short, long, value_name = "OUT.h5")]
+    pub output: Option<PathBuf>,
+    /// Override a scene entry, e.g. --set initial.speed_m_s=20 (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Directory for the PNG plots [default: OUT without .h5, then _plots].
+    #[arg(long, value_name = "DIR")]
+    pub plots: Option<PathBuf>,
+    /// Do not draw plots.
+    #[arg(long, conflicts_with = "plots")]
+    pub no_plots: bool,
+    /// Print the summary as JSON.
+    #[arg(long)]
+    pub json: bool,
+    /// No progress bar.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+impl RunArgs {
+    /// Second stage: the checked request.
+    pub fn to_request(&self) -> Result<crate::run::RunRequest> {
+        use crate::scene::LoadedScene;
+        let (scene, stem) = match &self.scene {
+            Some(p) => (
+                LoadedScene::load(p, &self.set)?,
+                p.file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_else(|| "run".into()),
+            ),
+            None => (
+                LoadedScene::default_scene(&self.set)?,
+                "wheelset_straight".to_string(),
+            ),
+        };
+        let output = self
+            .output
+            .clone()
+            .unwrap_or_else(|| PathBuf::from(format!("{stem}.h5")));
+        let plots = if self.no_plots {
+            None
+        } else {
+            Some(self.plots.clone().unwrap_or_else(|| {
+                let mut p = output.with_extension("").into_os_string();
+                p.push("_plots");
+                PathBuf::from(p)
+            }))
+        };
+        Ok(crate::run::RunRequest {
+            scene,
+            output,
+            plots,
+        })
+    }
 }
 
 /// Arguments of `sim creep-curves`.
@@ -268,6 +333,7 @@ pub fn run(cli: Cli) -> Result<()> {
             }
             Ok(())
         }
+        Command::Run(args) => run_command(&args),
         Command::Probe { file, s, json } => {
             let p = crate::probe::probe_file(&file, s)?;
             if json {
@@ -278,4 +344,48 @@ pub fn run(cli: Cli) -> Result<()> {
             Ok(())
         }
     }
+}
+
+fn run_command(args: &RunArgs) -> Result<()> {
+    use std::sync::Arc;
+    use std::sync::atomic::{AtomicBool, Ordering};
+
+    let req = args.to_request()?;
+    let stop = Arc::new(AtomicBool::new(false));
+    {
+        let stop = stop.clone();
+        // A second Ctrl-C while stopping is left to the default handler
+        // only if installing fails (e.g. in a host that owns the signal).
+        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
+    }
+    let bar = if args.quiet || args.json {
+        indicatif::ProgressBar::hidden()
+    } else {
+        let b = indicatif::ProgressBar::new(1000);
+        b.set_style(
+            indicatif::ProgressStyle::with_template("{bar:40} {msg}").expect("static template"),
+        );
+        b
+    };
+    let mut progress = |p: crate::run::RunProgress| {
+        bar.set_position((1000.0 * p.simulated_s / p.total_s.max(1e-12)) as u64);
+        let rtf = if p.wall_s > 0.0 {
+            p.simulated_s / p.wall_s
+        } else {
+            0.0
+        };
+        bar.set_message(format!(
+            "t = {:.3} / {:.3} s, real-time factor {:.2}",
+            p.simulated_s, p.total_s, rtf
+        ));
+    };
+    let result = crate::run::run_scene(&req, &mut progress, Some(stop));
+    bar.finish_and_clear();
+    let summary = result?;
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&summary)?);
+    } else {
+        print!("{}", summary.to_text());
+    }
+    Ok(())
 }

@@ -1,9 +1,12 @@
 //! The `sim` application: scenes, runs, outputs, plots and sweeps on top of
 //! the `runtime` library and the `preproc` pre-processor.
 
+pub mod cache;
 pub mod cli;
 pub mod contact;
 pub mod creep_curves;
 pub mod probe;
+pub mod run;
 pub mod run_plots;
+pub mod scene;
 pub mod vehicle_file;

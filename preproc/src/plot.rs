@@ -918,6 +918,54 @@ fn visible_polylines(
     out
 }
 
+/// A polyline made safe for plotters' wide strokes: points within a pixel
+/// of the previous kept one are dropped (the last is kept), and the line is
+/// cut where it turns back by more than 120°. Plotters joins the segments
+/// of a wide line with mitres, whose length grows as 1/sin(θ/2) for a turn
+/// of θ: a spike that reverses within a pixel or two (a flange impact in a
+/// force history) would be drawn as a line across the whole image.
+fn stroke_pieces(line: Vec<(f64, f64)>, (ux, uy): (f64, f64)) -> Vec<Vec<(f64, f64)>> {
+    if line.len() < 3 || !(ux > 0.0 && uy > 0.0) {
+        return vec![line];
+    }
+    let last = line[line.len() - 1];
+    let mut thin: Vec<(f64, f64)> = Vec::with_capacity(line.len());
+    for p in line {
+        match thin.last() {
+            Some(q) if ((p.0 - q.0) / ux).abs() < 1.0 && ((p.1 - q.1) / uy).abs() < 1.0 => {}
+            _ => thin.push(p),
+        }
+    }
+    if thin.last() != Some(&last) {
+        if thin.len() >= 2 {
+            thin.pop();
+        }
+        thin.push(last);
+    }
+    let dir = |a: (f64, f64), b: (f64, f64)| {
+        let (dx, dy) = ((b.0 - a.0) / ux, (b.1 - a.1) / uy);
+        let n = dx.hypot(dy);
+        if n > 0.0 {
+            (dx / n, dy / n)
+        } else {
+            (0.0, 0.0)
+        }
+    };
+    let mut pieces = Vec::new();
+    let mut current = vec![thin[0]];
+    for i in 1..thin.len() {
+        current.push(thin[i]);
+        if i + 1 < thin.len() {
+            let (a, b) = (dir(thin[i - 1], thin[i]), dir(thin[i], thin[i + 1]));
+            if a.0 * b.0 + a.1 * b.1 < -0.5 {
+                pieces.push(std::mem::replace(&mut current, vec![thin[i]]));
+            }
+        }
+    }
+    pieces.push(current);
+    pieces
+}
+
 /// Usable points whose neighbours are both missing or unusable.
 fn isolated_points(points: &[(f64, f64)]) -> impl Iterator<Item = (f64, f64)> + '_ {
     let usable_at = |i: Option<usize>| i.and_then(|i| points.get(i)).is_some_and(usable_point);
@@ -1079,8 +1127,17 @@ fn draw_panel<DB: DrawingBackend>(
             visible_polylines(&s.points, lay.x_range, lay.y_range)
         };
         let line_style = c.stroke_width(sz.line);
-        cc.draw_series(lines.into_iter().map(|l| PathElement::new(l, line_style)))
-            .map_err(e)?;
+        let px = (
+            (lay.x_range.1 - lay.x_range.0) / f64::from(lay.plot.0.max(1)),
+            (lay.y_range.1 - lay.y_range.0) / f64::from(lay.plot.1.max(1)),
+        );
+        cc.draw_series(
+            lines
+                .into_iter()
+                .flat_map(|l| stroke_pieces(l, px))
+                .map(|l| PathElement::new(l, line_style)),
+        )
+        .map_err(e)?;
         if s.style != SeriesStyle::Line {
             let shape = marker_shape(ci, marker_r);
             cc.draw_series(

@@ -1,0 +1,579 @@
+//! Scene files (`tables/scenes/*.toml`): everything one run needs — the
+//! track, the vehicle, the contact and force models, the initial
+//! conditions, the run length and the integrator (SPEC §8). Paths are
+//! relative to the scene file. `--set key=value` overrides any entry
+//! (dotted keys, TOML values; a bare word is taken as a string), so a
+//! sweep is one scene and a list of overrides.
+//!
+//! ```toml
+//! title = "ML95-like wheelset, 300 m straight (paper §5, Fig. 15)"
+//!
+//! [track]
+//! centerline = "../tracks/straight_300m/centerline.csv"  # built on demand, cached
+//! # cant = "…", irregularities = "…"      optional CSV inputs
+//! # tables = "straight.h5"                or a table file from track-preproc
+//! step_m = 0.1
+//! scheme = "cubic"
+//! gauge_m = 1.435
+//! rail_inclination = "1:40"
+//! rail_profile = "../profiles/MBench_UIC60_v3.prr"
+//!
+//! [vehicle]
+//! file = "../vehicles/ml95_like_wheelset.toml"
+//!
+//! [contact]
+//! method = "online"         # online | table
+//! flange = "auto"           # off | on | auto
+//! creep_law = "polach"      # kalker | heuristic | polach | fastsim | none
+//! friction = 0.3
+//! restitution = 0.9
+//!
+//! [initial]
+//! speed_m_s = 10.0
+//! s_m = 5.0                 # track distance of the vehicle reference point
+//! lateral_m = -0.002        # every wheelset, + left
+//! yaw_rad = 0.0
+//!
+//! [run]
+//! distance_m = 280.0        # or duration_s
+//! integrator = "rk4"        # rk4 | dopri5
+//! step_s = 1e-4             # rk4
+//! rtol = 1e-6               # dopri5
+//! atol = 1e-9
+//! output_interval_s = 0.01
+//! ```
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, bail, ensure};
+use runtime::creep::{CreepLaw, FastsimParams, PolachParams};
+use runtime::integrator::{Dopri5, Method, Rk4};
+use serde::{Deserialize, Serialize};
+
+/// The track: a table file, or CSV inputs built on demand (and cached).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrackSection {
+    /// A table file from `track-preproc build` (exclusive with `centerline`).
+    #[serde(default)]
+    pub tables: Option<PathBuf>,
+    /// Centreline control points (CSV).
+    #[serde(default)]
+    pub centerline: Option<PathBuf>,
+    #[serde(default)]
+    pub cant: Option<PathBuf>,
+    #[serde(default)]
+    pub irregularities: Option<PathBuf>,
+    /// Table step (m), spline scheme, gauge (m), rail inclination ("1:40",
+    /// "0", …) of the build; ignored with `tables`.
+    #[serde(default = "default_step")]
+    pub step_m: f64,
+    #[serde(default = "default_scheme")]
+    pub scheme: String,
+    #[serde(default = "default_gauge")]
+    pub gauge_m: f64,
+    #[serde(default = "default_inclination")]
+    pub rail_inclination: String,
+    /// Rail profile (both rails; SIMPACK .prr, two columns or CSV).
+    pub rail_profile: PathBuf,
+}
+
+fn default_step() -> f64 {
+    0.1
+}
+fn default_scheme() -> String {
+    "cubic".into()
+}
+fn default_gauge() -> f64 {
+    1.435
+}
+fn default_inclination() -> String {
+    "1:40".into()
+}
+
+/// The vehicle file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VehicleSection {
+    pub file: PathBuf,
+}
+
+/// Contact geometry and force models.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSection {
+    /// `online` (Newton at every evaluation) or `table` (contact lookup
+    /// table, built on demand for the wheel/rail pair and cached).
+    #[serde(default = "default_method")]
+    pub method: String,
+    /// Flange search: `off`, `on` or `auto`.
+    #[serde(default = "default_flange")]
+    pub flange: String,
+    /// `kalker`, `heuristic`, `polach`, `fastsim` or `none`.
+    #[serde(default = "default_creep")]
+    pub creep_law: String,
+    /// Polach parameter set: `1999`, `dry-2005`, `wet-2005`.
+    #[serde(default = "default_polach")]
+    pub polach_preset: String,
+    /// FASTSIM discretisation (strips × elements per strip).
+    #[serde(default)]
+    pub fastsim_strips: Option<usize>,
+    #[serde(default)]
+    pub fastsim_elements: Option<usize>,
+    /// Coefficient of friction (for Polach with slip-velocity dependent
+    /// friction, μ0).
+    #[serde(default = "default_friction")]
+    pub friction: f64,
+    #[serde(default = "default_young")]
+    pub young_pa: f64,
+    #[serde(default = "default_poisson")]
+    pub poisson: f64,
+    /// Restitution coefficient of the normal contact (paper eq. 22).
+    #[serde(default = "default_restitution")]
+    pub restitution: f64,
+    /// Creepage regularisation speed (m/s).
+    #[serde(default = "default_min_speed")]
+    pub min_rolling_speed_m_s: f64,
+}
+
+fn default_method() -> String {
+    "online".into()
+}
+fn default_flange() -> String {
+    "auto".into()
+}
+fn default_creep() -> String {
+    "polach".into()
+}
+fn default_polach() -> String {
+    "1999".into()
+}
+fn default_friction() -> f64 {
+    0.3
+}
+fn default_young() -> f64 {
+    210e9
+}
+fn default_poisson() -> f64 {
+    0.3
+}
+fn default_restitution() -> f64 {
+    0.9
+}
+fn default_min_speed() -> f64 {
+    0.1
+}
+
+impl Default for ContactSection {
+    fn default() -> Self {
+        toml::from_str("").expect("every field has a default")
+    }
+}
+
+/// Initial conditions.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InitialSection {
+    /// Forward speed (m/s): every body's initial speed and the references'.
+    pub speed_m_s: f64,
+    /// Track distance of the vehicle reference point at t = 0 (m).
+    #[serde(default = "default_s")]
+    pub s_m: f64,
+    /// Lateral shift of every wheelset (m), + left.
+    #[serde(default)]
+    pub lateral_m: f64,
+    /// Yaw of every wheelset (rad), + nose left.
+    #[serde(default)]
+    pub yaw_rad: f64,
+}
+
+fn default_s() -> f64 {
+    5.0
+}
+
+/// Run length, integrator, outputs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RunSection {
+    /// Distance to run (m) — or `duration_s`.
+    #[serde(default)]
+    pub distance_m: Option<f64>,
+    #[serde(default)]
+    pub duration_s: Option<f64>,
+    /// `rk4` or `dopri5`.
+    #[serde(default = "default_integrator")]
+    pub integrator: String,
+    /// RK4 step (s).
+    #[serde(default = "default_step_s")]
+    pub step_s: f64,
+    /// DOPRI5 tolerances and largest step (s).
+    #[serde(default = "default_rtol")]
+    pub rtol: f64,
+    #[serde(default = "default_atol")]
+    pub atol: f64,
+    #[serde(default = "default_max_step")]
+    pub max_step_s: f64,
+    /// Output sampling interval (s).
+    #[serde(default = "default_output")]
+    pub output_interval_s: f64,
+}
+
+fn default_integrator() -> String {
+    "rk4".into()
+}
+fn default_step_s() -> f64 {
+    2e-4
+}
+fn default_rtol() -> f64 {
+    1e-6
+}
+fn default_atol() -> f64 {
+    1e-9
+}
+fn default_max_step() -> f64 {
+    1e-3
+}
+fn default_output() -> f64 {
+    0.005
+}
+
+/// A scene as written (after overrides).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    #[serde(default)]
+    pub title: String,
+    pub track: TrackSection,
+    pub vehicle: VehicleSection,
+    #[serde(default)]
+    pub contact: ContactSection,
+    pub initial: InitialSection,
+    pub run: RunSection,
+}
+
+/// A scene with its origin: the directory its paths are relative to and
+/// the text as run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LoadedScene {
+    pub scene: Scene,
+    pub dir: PathBuf,
+    /// The scene text after the overrides (written to the results file).
+    pub text: String,
+    /// Where it came from (a file, or the built-in default).
+    pub origin: String,
+}
+
+/// The paper's single-wheelset case on the shipped data, run by `sim run`
+/// without a scene.
+pub const DEFAULT_SCENE: &str = include_str!("../tables/scenes/wheelset_straight.toml");
+/// Directory of the built-in scene's relative paths.
+pub const DEFAULT_SCENE_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/scenes");
+
+impl LoadedScene {
+    /// Reads a scene file and applies `overrides` (`key=value`).
+    pub fn load(path: &Path, overrides: &[String]) -> Result<LoadedScene> {
+        let text = std::fs::read_to_string(path)
+            .with_context(|| format!("reading the scene {}", path.display()))?;
+        let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        Self::from_text(&text, dir, overrides, path.display().to_string())
+            .with_context(|| format!("in the scene {}", path.display()))
+    }
+
+    /// The built-in default scene with `overrides`.
+    pub fn default_scene(overrides: &[String]) -> Result<LoadedScene> {
+        Self::from_text(
+            DEFAULT_SCENE,
+            PathBuf::from(DEFAULT_SCENE_DIR),
+            overrides,
+            "built-in scene (tables/scenes/wheelset_straight.toml)".into(),
+        )
+    }
+
+    /// Parses, overrides, validates.
+    pub fn from_text(
+        text: &str,
+        dir: PathBuf,
+        overrides: &[String],
+        origin: String,
+    ) -> Result<LoadedScene> {
+        let mut table: toml::Table = text.parse().context("the scene is not valid TOML")?;
+        for o in overrides {
+            apply_override(&mut table, o).with_context(|| format!("--set {o}"))?;
+        }
+        let text = if overrides.is_empty() {
+            text.to_string()
+        } else {
+            format!(
+                "# overrides: {}\n{}",
+                overrides.join(" "),
+                toml::to_string(&table)?
+            )
+        };
+        let scene: Scene = table.try_into().context("the scene's entries")?;
+        scene.validate()?;
+        Ok(LoadedScene {
+            scene,
+            dir,
+            text,
+            origin,
+        })
+    }
+
+    /// A path of the scene, resolved against its directory.
+    pub fn path(&self, p: &Path) -> PathBuf {
+        if p.is_absolute() {
+            p.to_path_buf()
+        } else {
+            self.dir.join(p)
+        }
+    }
+}
+
+/// Sets `a.b.c = value` in `table` (value parsed as TOML, or a string).
+pub fn apply_override(table: &mut toml::Table, assignment: &str) -> Result<()> {
+    let (key, value) = assignment
+        .split_once('=')
+        .context("an override is key=value, e.g. initial.speed_m_s=20")?;
+    let key = key.trim();
+    ensure!(!key.is_empty(), "empty key");
+    let value = value.trim();
+    let parsed: toml::Value = match format!("v = {value}").parse::<toml::Table>() {
+        Ok(mut t) => t.remove("v").context("parsed value")?,
+        Err(_) => toml::Value::String(value.to_string()),
+    };
+    let parts: Vec<&str> = key.split('.').collect();
+    let mut cur = table;
+    for p in &parts[..parts.len() - 1] {
+        let entry = cur
+            .entry(p.to_string())
+            .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+        cur = entry
+            .as_table_mut()
+            .with_context(|| format!("'{p}' is not a section"))?;
+    }
+    cur.insert(parts[parts.len() - 1].to_string(), parsed);
+    Ok(())
+}
+
+impl Scene {
+    /// Checks every rule, naming the entry.
+    pub fn validate(&self) -> Result<()> {
+        let t = &self.track;
+        match (&t.tables, &t.centerline) {
+            (Some(_), None) | (None, Some(_)) => {}
+            _ => bail!("[track]: give either tables (a .h5 file) or centerline (CSV inputs)"),
+        }
+        ensure!(
+            t.tables.is_none() || (t.cant.is_none() && t.irregularities.is_none()),
+            "[track]: cant and irregularities are CSV inputs; with tables they are already built in"
+        );
+        ensure!(
+            t.step_m.is_finite() && t.step_m > 0.0 && t.step_m <= 5.0,
+            "[track] step_m = {} must lie in (0, 5] m",
+            t.step_m
+        );
+        ensure!(
+            t.gauge_m > 0.5 && t.gauge_m < 2.5,
+            "[track] gauge_m = {} must lie in 0.5 … 2.5 m",
+            t.gauge_m
+        );
+        let c = &self.contact;
+        ensure!(
+            ["online", "table"].contains(&c.method.as_str()),
+            "[contact] method '{}' is not online or table",
+            c.method
+        );
+        c.flange
+            .parse::<runtime::contact::FlangeSearch>()
+            .map_err(anyhow::Error::msg)
+            .context("[contact] flange")?;
+        self.creep_law()?;
+        ensure!(
+            c.friction.is_finite() && c.friction >= 0.0 && c.friction <= 2.0,
+            "[contact] friction = {} must lie in [0, 2]",
+            c.friction
+        );
+        ensure!(
+            c.restitution > 0.0 && c.restitution <= 1.0,
+            "[contact] restitution = {} must lie in (0, 1]",
+            c.restitution
+        );
+        ensure!(
+            c.min_rolling_speed_m_s.is_finite() && c.min_rolling_speed_m_s > 0.0,
+            "[contact] min_rolling_speed_m_s = {} must be > 0",
+            c.min_rolling_speed_m_s
+        );
+        let i = &self.initial;
+        ensure!(
+            i.speed_m_s.is_finite() && i.speed_m_s >= 0.0 && i.speed_m_s <= 150.0,
+            "[initial] speed_m_s = {} must lie in [0, 150] m/s",
+            i.speed_m_s
+        );
+        ensure!(i.s_m.is_finite(), "[initial] s_m must be finite");
+        ensure!(
+            i.lateral_m.is_finite() && i.lateral_m.abs() <= 0.02,
+            "[initial] lateral_m = {} must lie within ±0.02 m",
+            i.lateral_m
+        );
+        ensure!(
+            i.yaw_rad.is_finite() && i.yaw_rad.abs() <= 0.05,
+            "[initial] yaw_rad = {} must lie within ±0.05 rad",
+            i.yaw_rad
+        );
+        let r = &self.run;
+        match (r.distance_m, r.duration_s) {
+            (Some(d), None) => ensure!(
+                d.is_finite() && d > 0.0,
+                "[run] distance_m = {d} must be > 0"
+            ),
+            (None, Some(d)) => ensure!(
+                d.is_finite() && d > 0.0,
+                "[run] duration_s = {d} must be > 0"
+            ),
+            _ => bail!("[run]: give either distance_m or duration_s"),
+        }
+        if r.distance_m.is_some() {
+            ensure!(
+                i.speed_m_s > 0.0,
+                "[run] distance_m needs [initial] speed_m_s > 0 (use duration_s at standstill)"
+            );
+        }
+        self.method()?;
+        ensure!(
+            r.output_interval_s.is_finite() && r.output_interval_s > 0.0,
+            "[run] output_interval_s = {} must be > 0",
+            r.output_interval_s
+        );
+        Ok(())
+    }
+
+    /// Simulated time (s).
+    pub fn duration_s(&self) -> f64 {
+        match (self.run.distance_m, self.run.duration_s) {
+            (Some(d), _) => d / self.initial.speed_m_s,
+            (None, Some(t)) => t,
+            (None, None) => 0.0,
+        }
+    }
+
+    /// The creep law with its parameters.
+    pub fn creep_law(&self) -> Result<CreepLaw> {
+        let c = &self.contact;
+        let law = match c.creep_law.as_str() {
+            "polach" => {
+                let (params, _) = PolachParams::preset(&c.polach_preset).with_context(|| {
+                    format!(
+                        "[contact] polach_preset '{}' is not one of {:?}",
+                        c.polach_preset,
+                        PolachParams::PRESET_NAMES
+                    )
+                })?;
+                CreepLaw::Polach(params)
+            }
+            "fastsim" => {
+                let mut p = FastsimParams::default();
+                if let Some(k) = c.fastsim_strips {
+                    p.strips = k;
+                }
+                if let Some(k) = c.fastsim_elements {
+                    p.elements_per_strip = k;
+                }
+                CreepLaw::Fastsim(p)
+            }
+            name => CreepLaw::from_name(name).with_context(|| {
+                format!(
+                    "[contact] creep_law '{name}' is not one of {:?}",
+                    CreepLaw::NAMES
+                )
+            })?,
+        };
+        law.validate().context("[contact] creep law parameters")?;
+        Ok(law)
+    }
+
+    /// The integration method.
+    pub fn method(&self) -> Result<Method> {
+        let r = &self.run;
+        Ok(match r.integrator.as_str() {
+            "rk4" => {
+                ensure!(
+                    r.step_s.is_finite() && r.step_s > 0.0 && r.step_s <= 0.01,
+                    "[run] step_s = {} must lie in (0, 0.01] s",
+                    r.step_s
+                );
+                Method::Rk4(Rk4 { step_s: r.step_s })
+            }
+            "dopri5" => {
+                ensure!(
+                    r.rtol > 0.0 && r.rtol < 1.0 && r.atol > 0.0,
+                    "[run] rtol = {} must lie in (0, 1) and atol = {} be > 0",
+                    r.rtol,
+                    r.atol
+                );
+                ensure!(
+                    r.max_step_s > 0.0 && r.max_step_s.is_finite(),
+                    "[run] max_step_s = {} must be > 0",
+                    r.max_step_s
+                );
+                Method::Dopri5(Dopri5 {
+                    rtol: r.rtol,
+                    atol: r.atol,
+                    max_step_s: r.max_step_s,
+                    ..Dopri5::default()
+                })
+            }
+            other => bail!("[run] integrator '{other}' is not rk4 or dopri5"),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_default_scene_is_valid() {
+        let s = LoadedScene::default_scene(&[]).unwrap();
+        assert!(s.scene.duration_s() > 0.0);
+        assert!(
+            s.path(&s.scene.vehicle.file).exists(),
+            "{:?}",
+            s.scene.vehicle.file
+        );
+    }
+
+    #[test]
+    fn overrides_set_values_and_are_recorded() {
+        let s = LoadedScene::default_scene(&[
+            "initial.speed_m_s=20".into(),
+            "contact.creep_law=kalker".into(),
+            "run.integrator = \"dopri5\"".into(),
+        ])
+        .unwrap();
+        assert_eq!(s.scene.initial.speed_m_s, 20.0);
+        assert_eq!(s.scene.contact.creep_law, "kalker");
+        assert_eq!(s.scene.run.integrator, "dopri5");
+        assert!(s.text.starts_with("# overrides:"));
+        let again = LoadedScene::from_text(&s.text, s.dir.clone(), &[], "x".into()).unwrap();
+        assert_eq!(again.scene, s.scene);
+    }
+
+    #[test]
+    fn bad_entries_name_the_rule() {
+        let cases = [
+            ("contact.creep_law=coulomb", "creep_law"),
+            ("initial.speed_m_s=-1", "speed_m_s"),
+            ("contact.flange=sometimes", "flange"),
+            ("run.integrator=euler", "integrator"),
+            ("run.step_s=0", "step_s"),
+            ("contact.restitution=1.5", "restitution"),
+            ("contact.frction=0.3", "frction"),
+            ("speed", "key=value"),
+        ];
+        for (o, what) in cases {
+            let e = LoadedScene::default_scene(&[o.into()]).unwrap_err();
+            let chain = format!("{e:#}");
+            assert!(chain.contains(what), "{o}: {chain}");
+        }
+    }
+}
