@@ -345,12 +345,13 @@ fn wheelset_summaries(r: &RunResults) -> Vec<WheelsetSummary> {
                     |m, v| if v.is_finite() { m.max(v.abs()) } else { m },
                 );
             let time_in = |flags: &[u8]| -> f64 {
-                flags
+                // 0.0 + …: an empty f64 sum is −0.0.
+                0.0 + flags
                     .iter()
                     .enumerate()
                     .filter(|(_, f)| **f == 1)
                     .map(|(i, _)| dt(i))
-                    .sum()
+                    .sum::<f64>()
             };
             let events = w
                 .wheels
@@ -674,16 +675,19 @@ pub fn contact_tables(
                 let model = config.model()?;
                 let table = build_contact_table(&model, &config, &NoProgress)
                     .with_context(|| format!("contact table of wheelset '{}'", w.name))?;
-                let inputs = [&config.wheel_profile, &config.rail_profile]
-                    .iter()
-                    .map(|p| {
-                        Ok(InputFile {
-                            role: "profile".into(),
-                            path: p.display().to_string(),
-                            text: std::fs::read_to_string(p)?,
-                        })
+                let inputs = [
+                    ("wheel_profile", &config.wheel_profile),
+                    ("rail_profile", &config.rail_profile),
+                ]
+                .iter()
+                .map(|(role, p)| {
+                    Ok(InputFile {
+                        role: (*role).into(),
+                        path: p.display().to_string(),
+                        text: std::fs::read_to_string(p)?,
                     })
-                    .collect::<Result<Vec<_>>>()?;
+                })
+                .collect::<Result<Vec<_>>>()?;
                 runtime::schema::write_contact_table_file(
                     &path,
                     &table,
