@@ -353,7 +353,7 @@ fn default_scene_writes_results_and_plots() {
 fn ctrl_c_stops_cleanly_and_writes_the_results() {
     let dir = scratch("run_ctrl_c");
     let out = dir.join("interrupted.h5");
-    let mut child = sim()
+    let child = sim()
         .env("RAILSIM_CACHE_DIR", dir.join("cache"))
         .args([
             "run",
