@@ -22,6 +22,21 @@ pub enum Command {
     CreepCurves(CreepCurveArgs),
     /// Run a scene: a wheelset or bogie on the track; results (HDF5), plots, summary.
     Run(RunArgs),
+    /// Lateral displacement of one wheelset from several results files in one chart.
+    Compare {
+        /// Results files written by `sim run`.
+        #[arg(value_name = "RESULTS.h5", required = true)]
+        runs: Vec<PathBuf>,
+        /// Output PNG.
+        #[arg(long, value_name = "FILE.png")]
+        out: PathBuf,
+        /// Wheelset index (0 = the first in the vehicle file).
+        #[arg(long, default_value_t = 0)]
+        wheelset: usize,
+        /// Chart title.
+        #[arg(long, default_value = "Lateral displacement")]
+        title: String,
+    },
     /// Print both rails' interpolated position and frame at a centreline distance.
     Probe {
         /// Track table file written by `track-preproc build`.
@@ -334,6 +349,29 @@ pub fn run(cli: Cli) -> Result<()> {
             Ok(())
         }
         Command::Run(args) => run_command(&args),
+        Command::Compare {
+            runs,
+            out,
+            wheelset,
+            title,
+        } => {
+            let mut loaded = Vec::new();
+            for p in &runs {
+                let r = runtime::schema::results::read_results(p)
+                    .with_context(|| format!("reading {}", p.display()))?;
+                let label = format!(
+                    "{} m/s, {}",
+                    r.attribute("speed_m_s").unwrap_or("?"),
+                    r.attribute("creep_law").unwrap_or("?")
+                );
+                loaded.push((label, r));
+            }
+            let refs: Vec<(String, &runtime::schema::results::RunResults)> =
+                loaded.iter().map(|(l, r)| (l.clone(), r)).collect();
+            crate::run_plots::write_comparison_plot(&refs, wheelset, &out, &title)?;
+            println!("wrote {}", out.display());
+            Ok(())
+        }
         Command::Probe { file, s, json } => {
             let p = crate::probe::probe_file(&file, s)?;
             if json {

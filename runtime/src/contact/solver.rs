@@ -68,7 +68,7 @@ pub struct ContactOptions {
     pub minimisation_fallback: bool,
     /// Remember pieces found without a contact of their own (no stationary
     /// point) and skip them until the wheel has moved (see `Clear` in this
-    /// file: 0.2 mm laterally or vertically, 0.5 mrad of yaw or roll, 0.25 m
+    /// file: 0.2 mm laterally or vertically, 0.5 mrad of yaw or roll, 2 m
     /// along the track). For time stepping, where consecutive poses differ
     /// by micrometres and a cold search of such a piece (about 100 µs)
     /// would otherwise be repeated at every evaluation. Off by default:
@@ -242,9 +242,12 @@ struct Clear {
 const CLEAR_RECHECK_M: f64 = 2e-4;
 /// Yaw change after which a clear piece is searched again (rad).
 const CLEAR_RECHECK_RAD: f64 = 5e-4;
-/// Travel along the track after which a clear piece is searched again (m):
-/// the rail geometry (irregularities) changes along the track.
-const CLEAR_RECHECK_ALONG_M: f64 = 0.25;
+/// Travel along the track after which a clear piece is searched again (m).
+/// The lateral and vertical measures above are taken against the rail's
+/// actual position, so alignment and level irregularities are already
+/// watched; this bound covers what they do not (changes of the rail's
+/// roll, a curve's frame turning), which vary over metres.
+const CLEAR_RECHECK_ALONG_M: f64 = 2.0;
 
 impl Clear {
     fn still_clear(&self, now: &WheelPosition, s_track_m: f64) -> bool {

@@ -299,10 +299,22 @@ impl<'a> VehicleSystem<'a> {
             };
             let mut options = settings.contact;
             if options.flange == FlangeSearch::Auto {
-                for side in Side::BOTH {
-                    let clearance = flange_clearance_m(&w.contact, side)
-                        .map_err(|e| assembly_err(format!("flangeway clearance: {e}")))?;
-                    options.flange_clearance_m[side_index(side)] = clearance.unwrap_or(0.0);
+                // Identical wheelsets (the usual case) share one computation.
+                let same = vehicle
+                    .wheelsets
+                    .iter()
+                    .zip(&solvers)
+                    .find(|(other, _)| other.contact == w.contact)
+                    .map(|(_, s): (_, &ContactSolver)| s.options.flange_clearance_m);
+                match same {
+                    Some(c) => options.flange_clearance_m = c,
+                    None => {
+                        for side in Side::BOTH {
+                            let clearance = flange_clearance_m(&w.contact, side)
+                                .map_err(|e| assembly_err(format!("flangeway clearance: {e}")))?;
+                            options.flange_clearance_m[side_index(side)] = clearance.unwrap_or(0.0);
+                        }
+                    }
                 }
             }
             let mut solver = ContactSolver::new(options);
@@ -564,7 +576,10 @@ impl<'a> VehicleSystem<'a> {
                     limit_mm: self.settings.derailment_lateral_m * 1e3,
                 });
             }
-            let contacts = match &self.settings.method {
+            // Written in place: a snapshot holds a dozen candidates and
+            // forces (kilobytes), copying them costs more than their maths.
+            let snap = &mut self.snapshots[i];
+            snap.contacts = match &self.settings.method {
                 ContactMethod::Online => self.solvers[i].solve(&w.contact, track, &pose),
                 ContactMethod::Table(tables) => {
                     table_contacts(&w.contact, track, &pose, &relative, &tables[i])
@@ -582,18 +597,20 @@ impl<'a> VehicleSystem<'a> {
                 angular_velocity_rad_s: omega,
                 forward_speed_m_s: relative.forward_speed_m_s,
             };
+            snap.relative = relative;
+            snap.spin_rad_s = omega.dot(&axle);
             let mut wrench = Wrench::zero();
-            let mut forces: [[Option<ContactForce>; MAX_SEGMENTS]; 2] = Default::default();
-            for (k, forces_k) in forces.iter_mut().enumerate() {
+            for (k, forces_k) in snap.forces.iter_mut().enumerate() {
                 for (seg, force_slot) in forces_k.iter_mut().enumerate() {
                     let pending = &mut self.pending[i][k][seg];
                     *pending = ContactMemory::not_in_contact();
-                    let Some(cand) = contacts.candidates[k][seg] else {
+                    *force_slot = None;
+                    let Some(cand) = &snap.contacts.candidates[k][seg] else {
                         continue;
                     };
                     let f = evaluate_contact(
                         &self.settings.forces,
-                        &cand,
+                        cand,
                         &self.memory[i][k][seg],
                         &motion,
                     )
@@ -610,12 +627,6 @@ impl<'a> VehicleSystem<'a> {
                     }
                 }
             }
-            self.snapshots[i] = WheelsetSnapshot {
-                relative,
-                contacts,
-                forces,
-                spin_rad_s: omega.dot(&axle),
-            };
             // Elements attach to the non-spinning axle frame.
             self.anchors[i] = Anchor {
                 position_m: st.position_m,
