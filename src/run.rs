@@ -168,6 +168,7 @@ pub fn run_scene(
         },
         method,
         speed_m_s: scene.initial.speed_m_s,
+        deceleration_m_s2: scene.initial.deceleration_m_s2,
         s_start_m: scene.initial.s_m,
         ..SystemSettings::default()
     };
@@ -229,7 +230,8 @@ pub fn run_scene(
                 a
             });
     let s_stop = system.s_stop_m();
-    let speed = system.settings().speed_m_s;
+    let simulated_end = recorder.results.time_s.last().copied().unwrap_or(0.0);
+    let s_end = system.s_vehicle_m(simulated_end);
     drop(system);
     let (stats, error) = match outcome {
         Ok(s) => (Some(s), None),
@@ -243,7 +245,7 @@ pub fn run_scene(
                 .is_some_and(|f| f.load(std::sync::atomic::Ordering::Relaxed))
             {
                 Some("interrupted".to_string())
-            } else if scene.initial.s_m + speed * simulated_time_s > s_stop - 1e-9 {
+            } else if s_end > s_stop - 1e-9 {
                 Some("end of track".to_string())
             } else {
                 Some("stopped".to_string())
@@ -437,6 +439,33 @@ impl RunSummary {
 /// into the cache (module docs).
 pub fn load_track(ls: &LoadedScene) -> Result<(TrackTables, TrackSource)> {
     let t = &ls.scene.track;
+    if let Some(length_m) = t.straight_m {
+        let inclination = t
+            .rail_inclination
+            .parse::<Inclination>()
+            .map_err(anyhow::Error::msg)
+            .context("[track] rail_inclination")?;
+        let spacing = BuildConfig {
+            gauge_m: t.gauge_m,
+            ..BuildConfig::default()
+        }
+        .rail_spacing_m();
+        let tables = runtime::track::straight_track(
+            length_m,
+            t.step_m,
+            t.gauge_m,
+            spacing,
+            inclination.angle_rad,
+        );
+        return Ok((
+            tables,
+            TrackSource {
+                path: format!("ideal straight, {length_m} m (in memory)"),
+                built: true,
+                build_time_s: 0.0,
+            },
+        ));
+    }
     if let Some(p) = &t.tables {
         let path = ls.path(p);
         let tables = runtime::schema::read_track(&path)?;

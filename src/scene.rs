@@ -60,6 +60,10 @@ pub struct TrackSection {
     /// Centreline control points (CSV).
     #[serde(default)]
     pub centerline: Option<PathBuf>,
+    /// Or: an ideal straight track of this length (m), tabulated in memory
+    /// at `step_m` (no file; for long stability runs).
+    #[serde(default)]
+    pub straight_m: Option<f64>,
     #[serde(default)]
     pub cant: Option<PathBuf>,
     #[serde(default)]
@@ -185,6 +189,10 @@ pub struct InitialSection {
     /// Yaw of every wheelset (rad), + nose left.
     #[serde(default)]
     pub yaw_rad: f64,
+    /// Deceleration of the track-following references (m/s², ≥ 0): a speed
+    /// ramp V(t) = V0 − a t (nonlinear critical speed).
+    #[serde(default)]
+    pub deceleration_m_s2: f64,
 }
 
 fn default_s() -> f64 {
@@ -329,7 +337,9 @@ impl LoadedScene {
     }
 }
 
-/// Sets `a.b.c = value` in `table` (value parsed as TOML, or a string).
+/// Sets `a.b.c = value` in `table` (value parsed as TOML, or a string); an
+/// empty value removes the entry (e.g. `track.centerline=` to use
+/// `track.straight_m` instead).
 pub fn apply_override(table: &mut toml::Table, assignment: &str) -> Result<()> {
     let (key, value) = assignment
         .split_once('=')
@@ -337,6 +347,19 @@ pub fn apply_override(table: &mut toml::Table, assignment: &str) -> Result<()> {
     let key = key.trim();
     ensure!(!key.is_empty(), "empty key");
     let value = value.trim();
+    if value.is_empty() {
+        let parts: Vec<&str> = key.split('.').collect();
+        let mut cur = table;
+        for p in &parts[..parts.len() - 1] {
+            cur = cur
+                .get_mut(*p)
+                .and_then(toml::Value::as_table_mut)
+                .with_context(|| format!("'{p}' is not a section of the scene"))?;
+        }
+        cur.remove(parts[parts.len() - 1])
+            .with_context(|| format!("'{key}' is not set, nothing to remove"))?;
+        return Ok(());
+    }
     let parsed: toml::Value = match format!("v = {value}").parse::<toml::Table>() {
         Ok(mut t) => t.remove("v").context("parsed value")?,
         Err(_) => toml::Value::String(value.to_string()),
@@ -359,9 +382,15 @@ impl Scene {
     /// Checks every rule, naming the entry.
     pub fn validate(&self) -> Result<()> {
         let t = &self.track;
-        match (&t.tables, &t.centerline) {
-            (Some(_), None) | (None, Some(_)) => {}
-            _ => bail!("[track]: give either tables (a .h5 file) or centerline (CSV inputs)"),
+        match (&t.tables, &t.centerline, t.straight_m) {
+            (Some(_), None, None) | (None, Some(_), None) => {}
+            (None, None, Some(l)) => ensure!(
+                l.is_finite() && l > 10.0 && l <= 1e6,
+                "[track] straight_m = {l} must lie in (10, 1e6] m"
+            ),
+            _ => bail!(
+                "[track]: give one of tables (a .h5 file), centerline (CSV inputs) or straight_m (an ideal straight)"
+            ),
         }
         ensure!(
             t.tables.is_none() || (t.cant.is_none() && t.irregularities.is_none()),
@@ -411,6 +440,11 @@ impl Scene {
         );
         ensure!(i.s_m.is_finite(), "[initial] s_m must be finite");
         ensure!(
+            i.deceleration_m_s2.is_finite() && i.deceleration_m_s2 >= 0.0,
+            "[initial] deceleration_m_s2 = {} must be >= 0",
+            i.deceleration_m_s2
+        );
+        ensure!(
             i.lateral_m.is_finite() && i.lateral_m.abs() <= 0.02,
             "[initial] lateral_m = {} must lie within ±0.02 m",
             i.lateral_m
@@ -447,10 +481,21 @@ impl Scene {
         Ok(())
     }
 
-    /// Simulated time (s).
+    /// Simulated time (s): for `distance_m`, the time the references take
+    /// to cover it (with a deceleration, until they stop).
     pub fn duration_s(&self) -> f64 {
+        let (v0, a) = (self.initial.speed_m_s, self.initial.deceleration_m_s2);
         match (self.run.distance_m, self.run.duration_s) {
-            (Some(d), _) => d / self.initial.speed_m_s,
+            (Some(d), _) if a > 0.0 => {
+                // v0 t − a t²/2 = d, the smaller root; or the stopping time.
+                let disc = v0 * v0 - 2.0 * a * d;
+                if disc > 0.0 {
+                    (v0 - disc.sqrt()) / a
+                } else {
+                    v0 / a
+                }
+            }
+            (Some(d), _) => d / v0,
             (None, Some(t)) => t,
             (None, None) => 0.0,
         }
@@ -554,6 +599,13 @@ mod tests {
         assert_eq!(s.scene.contact.creep_law, "kalker");
         assert_eq!(s.scene.run.integrator, "dopri5");
         assert!(s.text.starts_with("# overrides:"));
+        let straight = LoadedScene::default_scene(&[
+            "track.centerline=".into(),
+            "track.straight_m=2000".into(),
+        ])
+        .unwrap();
+        assert_eq!(straight.scene.track.centerline, None);
+        assert_eq!(straight.scene.track.straight_m, Some(2000.0));
         let again = LoadedScene::from_text(&s.text, s.dir.clone(), &[], "x".into()).unwrap();
         assert_eq!(again.scene, s.scene);
     }

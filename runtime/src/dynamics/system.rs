@@ -67,8 +67,13 @@ pub struct SystemSettings {
     pub contact: ContactOptions,
     pub method: ContactMethod,
     /// Set speed (m/s): initial forward speed of every body and the speed of
-    /// the track-following references.
+    /// the track-following references at t = 0.
     pub speed_m_s: f64,
+    /// Constant deceleration of the references (m/s², ≥ 0; 0 = constant
+    /// speed): V(t) = max(V0 − a t, 0). Used to ramp the speed down through
+    /// the nonlinear critical speed; bodies not tied to a reference (an
+    /// unsuspended wheelset) keep their own speed.
+    pub deceleration_m_s2: f64,
     /// Track distance of the vehicle reference point at t = 0 (m).
     pub s_start_m: f64,
     /// A wheelset farther than this from the centreline is derailed (m).
@@ -84,6 +89,7 @@ impl Default for SystemSettings {
             contact: ContactOptions::default(),
             method: ContactMethod::Online,
             speed_m_s: 10.0,
+            deceleration_m_s2: 0.0,
             s_start_m: 5.0,
             derailment_lateral_m: 0.05,
             gravity_m_s2: GRAVITY_M_S2,
@@ -249,6 +255,13 @@ impl<'a> VehicleSystem<'a> {
             return Err(DynamicsError::Setting {
                 setting: "speed (m/s)",
                 value: speed,
+                rule: "must be finite and >= 0",
+            });
+        }
+        if !(settings.deceleration_m_s2.is_finite() && settings.deceleration_m_s2 >= 0.0) {
+            return Err(DynamicsError::Setting {
+                setting: "deceleration (m/s²)",
+                value: settings.deceleration_m_s2,
                 rule: "must be finite and >= 0",
             });
         }
@@ -510,9 +523,17 @@ impl<'a> VehicleSystem<'a> {
         &self.states
     }
 
-    /// Track distance of the vehicle reference point at time `t_s` (m).
+    /// Speed of the references at time `t_s` (m/s): V0 − a t, not below 0.
+    pub fn speed_at_m_s(&self, t_s: f64) -> f64 {
+        (self.settings.speed_m_s - self.settings.deceleration_m_s2 * t_s).max(0.0)
+    }
+
+    /// Track distance of the vehicle reference point at time `t_s` (m): the
+    /// integral of [`Self::speed_at_m_s`].
     pub fn s_vehicle_m(&self, t_s: f64) -> f64 {
-        self.settings.s_start_m + self.settings.speed_m_s * t_s
+        let (v0, a) = (self.settings.speed_m_s, self.settings.deceleration_m_s2);
+        let t = if a > 0.0 { t_s.min(v0 / a) } else { t_s };
+        self.settings.s_start_m + v0 * t - 0.5 * a * t * t
     }
 
     /// Track distance beyond which the run stops (m).
@@ -651,7 +672,7 @@ impl<'a> VehicleSystem<'a> {
                 c,
                 s_vehicle,
                 &r.origin_m,
-                self.settings.speed_m_s,
+                self.speed_at_m_s(t),
                 REFERENCE_DS_M,
             )
             .map_err(|source| DynamicsError::Track {
