@@ -22,6 +22,8 @@ pub enum Command {
     CreepCurves(CreepCurveArgs),
     /// Run a scene: a wheelset or bogie on the track; results (HDF5), plots, summary.
     Run(RunArgs),
+    /// Critical speed per creep law: time-domain growth rates, a speed ramp, eigenvalues.
+    CriticalSpeed(CriticalSpeedArgs),
     /// Lateral displacement of one wheelset from several results files in one chart.
     Compare {
         /// Results files written by `sim run`.
@@ -112,6 +114,47 @@ pub struct ContactArgs {
     /// Coefficient of friction.
     #[arg(long, default_value_t = 0.3, value_name = "MU")]
     pub mu: f64,
+    /// Print JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Arguments of `sim critical-speed`.
+#[derive(Debug, clap::Args)]
+pub struct CriticalSpeedArgs {
+    /// Scene file (TOML).
+    #[arg(value_name = "SCENE.toml")]
+    pub scene: PathBuf,
+    /// Creep law (repeatable) [default: the scene's].
+    #[arg(long = "creep", value_name = "LAW", value_parser = CreepLaw::NAMES)]
+    pub creep: Vec<String>,
+    /// Lowest speed of the search [m/s].
+    #[arg(long, default_value_t = 10.0, value_name = "V")]
+    pub min: f64,
+    /// Highest speed of the search (and start of the ramp) [m/s].
+    #[arg(long, default_value_t = 120.0, value_name = "V")]
+    pub max: f64,
+    /// Width of the final bracket [m/s].
+    #[arg(long, default_value_t = 0.1, value_name = "V")]
+    pub tol: f64,
+    /// Runs in parallel [default: the number of cores].
+    #[arg(long, value_name = "N")]
+    pub jobs: Option<usize>,
+    /// time (growth rates of runs), ramp (nonlinear, speed ramped down), linear (eigenvalues); repeatable.
+    #[arg(long = "method", value_name = "M", default_value = "time", value_parser = ["time", "ramp", "linear"])]
+    pub method: Vec<String>,
+    /// Start transient skipped by the growth-rate fit [s].
+    #[arg(long, default_value_t = 1.0, value_name = "S")]
+    pub skip_s: f64,
+    /// Deceleration of the ramp [m/s²].
+    #[arg(long, default_value_t = 0.5, value_name = "A")]
+    pub ramp_deceleration: f64,
+    /// Set a scene entry for every run (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Output directory (rates.csv, rates.png, runs/).
+    #[arg(long, value_name = "DIR", default_value = "critical_speed")]
+    pub out: PathBuf,
     /// Print JSON.
     #[arg(long)]
     pub json: bool,
@@ -349,6 +392,7 @@ pub fn run(cli: Cli) -> Result<()> {
             Ok(())
         }
         Command::Run(args) => run_command(&args),
+        Command::CriticalSpeed(args) => critical_speed_command(&args),
         Command::Compare {
             runs,
             out,
@@ -424,6 +468,66 @@ fn run_command(args: &RunArgs) -> Result<()> {
         println!("{}", serde_json::to_string_pretty(&summary)?);
     } else {
         print!("{}", summary.to_text());
+    }
+    Ok(())
+}
+
+fn critical_speed_command(args: &CriticalSpeedArgs) -> Result<()> {
+    use crate::critical_speed::{
+        CriticalSpeedReport, CriticalSpeedSettings, linear_domain, ramp, time_domain,
+    };
+    use std::sync::Arc;
+    use std::sync::atomic::{AtomicBool, Ordering};
+
+    let scene = crate::scene::LoadedScene::load(&args.scene, &args.set)?;
+    let laws = if args.creep.is_empty() {
+        vec![scene.scene.contact.creep_law.clone()]
+    } else {
+        args.creep.clone()
+    };
+    let settings = CriticalSpeedSettings {
+        laws: laws.clone(),
+        min_m_s: args.min,
+        max_m_s: args.max,
+        tol_m_s: args.tol,
+        jobs: args
+            .jobs
+            .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
+        methods: args.method.clone(),
+        out_dir: args.out.clone(),
+        skip_s: args.skip_s,
+        ramp_deceleration_m_s2: args.ramp_deceleration,
+    };
+    settings.validate()?;
+    let stop = Arc::new(AtomicBool::new(false));
+    {
+        let stop = stop.clone();
+        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
+    }
+    let mut report = CriticalSpeedReport {
+        scene: scene.origin.clone(),
+        results: Vec::new(),
+        files: Vec::new(),
+    };
+    for law in &laws {
+        for method in &settings.methods {
+            if !args.json {
+                eprintln!("{law}, {method} …");
+            }
+            let r = match method.as_str() {
+                "time" => time_domain(&scene, law, &settings, stop.clone()),
+                "ramp" => ramp(&scene, law, &settings, stop.clone()),
+                _ => linear_domain(&scene, law, &settings, stop.clone()),
+            }
+            .with_context(|| format!("{law}, {method}"))?;
+            report.results.push(r);
+        }
+    }
+    report.write(&args.out)?;
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else {
+        print!("{}", report.to_text());
     }
     Ok(())
 }

@@ -5,6 +5,7 @@ pub mod cache;
 pub mod cli;
 pub mod contact;
 pub mod creep_curves;
+pub mod critical_speed;
 pub mod probe;
 pub mod run;
 pub mod run_plots;

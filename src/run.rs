@@ -139,39 +139,7 @@ pub fn run_scene(
     let vfile = VehicleFile::load(&vehicle_path)?;
     let rail_path = ls.path(&scene.track.rail_profile);
     let vehicle = vehicle_model(&vfile, &track, &rail_path)?;
-    let material = Material {
-        young_pa: scene.contact.young_pa,
-        poisson: scene.contact.poisson,
-    };
-    let creep_law = scene.creep_law()?;
-    let method = match scene.contact.method.as_str() {
-        "table" => ContactMethod::Table(contact_tables(&vfile, &track, &rail_path, material)?),
-        _ => ContactMethod::Online,
-    };
-    let flange: FlangeSearch = scene.contact.flange.parse().map_err(anyhow::Error::msg)?;
-    let settings = SystemSettings {
-        forces: ContactForceSettings {
-            material,
-            friction_coefficient: scene.contact.friction,
-            creep_law,
-            normal: NormalForceModel {
-                restitution: scene.contact.restitution,
-                ..NormalForceModel::default()
-            },
-            creepage: CreepageOptions {
-                min_rolling_speed_m_s: scene.contact.min_rolling_speed_m_s,
-            },
-        },
-        contact: ContactOptions {
-            flange,
-            ..ContactOptions::default()
-        },
-        method,
-        speed_m_s: scene.initial.speed_m_s,
-        deceleration_m_s2: scene.initial.deceleration_m_s2,
-        s_start_m: scene.initial.s_m,
-        ..SystemSettings::default()
-    };
+    let settings = system_settings(ls, &vfile, &track)?;
     let integrator = scene.method()?;
     let (mut system, y0) = VehicleSystem::assemble(
         &track,
@@ -328,6 +296,51 @@ pub fn run_scene(
         ))),
         None => Ok(summary),
     }
+}
+
+/// The system settings of a scene (force models, contact method — building
+/// or reading the contact tables when `method = "table"` — speed, start).
+pub fn system_settings(
+    ls: &LoadedScene,
+    vfile: &VehicleFile,
+    track: &TrackTables,
+) -> Result<SystemSettings> {
+    let scene = &ls.scene;
+    let rail_path = ls.path(&scene.track.rail_profile);
+    let material = Material {
+        young_pa: scene.contact.young_pa,
+        poisson: scene.contact.poisson,
+    };
+    let creep_law = scene.creep_law()?;
+    let method = match scene.contact.method.as_str() {
+        "table" => ContactMethod::Table(contact_tables(vfile, track, &rail_path, material)?),
+        _ => ContactMethod::Online,
+    };
+    let flange: FlangeSearch = scene.contact.flange.parse().map_err(anyhow::Error::msg)?;
+    let settings = SystemSettings {
+        forces: ContactForceSettings {
+            material,
+            friction_coefficient: scene.contact.friction,
+            creep_law,
+            normal: NormalForceModel {
+                restitution: scene.contact.restitution,
+                ..NormalForceModel::default()
+            },
+            creepage: CreepageOptions {
+                min_rolling_speed_m_s: scene.contact.min_rolling_speed_m_s,
+            },
+        },
+        contact: ContactOptions {
+            flange,
+            ..ContactOptions::default()
+        },
+        method,
+        speed_m_s: scene.initial.speed_m_s,
+        deceleration_m_s2: scene.initial.deceleration_m_s2,
+        s_start_m: scene.initial.s_m,
+        ..SystemSettings::default()
+    };
+    Ok(settings)
 }
 
 fn wheelset_summaries(r: &RunResults) -> Vec<WheelsetSummary> {

@@ -8,7 +8,8 @@
 //! - [`system`]: the vehicle on the track as a first-order system for
 //!   [`crate::integrator`] (the paper's per-step algorithm);
 //! - [`table_contact`]: contact from the lookup table instead of Newton;
-//! - [`recorder`]: sampled outputs into [`crate::schema::results::RunResults`].
+//! - [`recorder`]: sampled outputs into [`crate::schema::results::RunResults`];
+//! - [`linear`]: linearisation around the centred run, modes, hunting.
 //!
 //! State: 13 variables per wheelset and free body (position, unit
 //! quaternion, velocity, body angular velocity; [`crate::body::BodyState`]),
@@ -16,6 +17,7 @@
 //! the axle is part of their angular velocity; their contact geometry and
 //! the elements attached to them use the non-spinning axle frame.
 
+pub mod linear;
 pub mod recorder;
 pub mod system;
 pub mod table_contact;

@@ -1,0 +1,693 @@
+//! `sim critical-speed`: the speed at which the hunting of the leading
+//! wheelset stops decaying (the paper's definition, §5: "the lowest speed
+//! at which oscillations have zero decay"), per creep law, three ways:
+//!
+//! - **time** (linear critical speed, time domain): the scene is run at
+//!   many speeds in parallel; from each lateral history the growth rate σ
+//!   (1/s) is fitted to the successive peak amplitudes after the start
+//!   transient and before any flange contact (ln A = c + σ t, least
+//!   squares); the first speed where σ crosses zero is bracketed and the
+//!   bracket narrowed (N-section with as many speeds as jobs) to `tol`,
+//!   then interpolated linearly in σ;
+//! - **ramp** (nonlinear critical speed): from a flange-limited hunting
+//!   cycle at the top speed the references decelerate slowly on a long
+//!   ideal straight; the critical speed is the speed at which the cycle's
+//!   amplitude last falls below a quarter of its saturated value (the limit
+//!   cycle dies out);
+//! - **linear** (eigenvalues): the right-hand side is linearised around the
+//!   centred run ([`runtime::dynamics::linear`]) and the speed at which the
+//!   hunting mode's real part crosses zero is bracketed the same way.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
+
+use anyhow::{Context, Result, bail};
+use rayon::prelude::*;
+use runtime::dynamics::linear::{Mode, linearise};
+use runtime::dynamics::{InitialConditions, SystemSettings, VehicleSystem};
+use runtime::schema::results::RunResults;
+use serde::Serialize;
+
+use crate::run::{RunRequest, run_scene};
+use crate::scene::LoadedScene;
+
+/// A growth-rate fit of the lateral motion of one wheelset.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct RateFit {
+    /// Growth rate σ of the peak amplitudes (1/s): > 0 growing.
+    pub rate_1_s: f64,
+    /// Frequency of the oscillation (Hz), from the spacing of the peaks.
+    pub frequency_hz: f64,
+    /// Peaks used.
+    pub peaks: usize,
+    /// Amplitude of the first and last peaks used (m).
+    pub first_amplitude_m: f64,
+    pub last_amplitude_m: f64,
+}
+
+/// Amplitudes below this are integration noise, not motion (m).
+const NOISE_M: f64 = 1e-8;
+
+/// Extrema (time, |y|) of a sampled signal, refined by the parabola through
+/// the sample and its neighbours.
+fn extrema(t: &[f64], y: &[f64]) -> Vec<(f64, f64)> {
+    let mut out = Vec::new();
+    for i in 1..y.len().saturating_sub(1) {
+        let (a, b, c) = (y[i - 1], y[i], y[i + 1]);
+        if !(a.is_finite() && b.is_finite() && c.is_finite()) {
+            continue;
+        }
+        let is_max = b > a && b >= c;
+        let is_min = b < a && b <= c;
+        if !(is_max || is_min) {
+            continue;
+        }
+        // Parabola through the three (equally spaced) samples.
+        let den = a - 2.0 * b + c;
+        let (dt, peak) = if den != 0.0 {
+            let u = 0.5 * (a - c) / den;
+            (u, b - 0.25 * (a - c) * u)
+        } else {
+            (0.0, b)
+        };
+        let h = t[i + 1] - t[i];
+        out.push((t[i] + dt * h, peak.abs()));
+    }
+    out
+}
+
+/// The growth rate of wheelset `ws`'s lateral motion (module docs): peaks
+/// after `skip_s` and before the first flange contact of that wheelset,
+/// above the noise. `None` when fewer than 3 peaks qualify; then
+/// [`RateFit::rate_1_s`] is reported as −∞ if the motion died out and +∞ if
+/// it reached the flanges within the transient.
+pub fn growth_rate(r: &RunResults, ws: usize, skip_s: f64) -> Option<RateFit> {
+    let w = r.wheelsets.get(ws)?;
+    let flange_at = (0..r.len())
+        .find(|&i| w.wheels[0].flange_contact[i] == 1 || w.wheels[1].flange_contact[i] == 1)
+        .map(|i| r.time_s[i])
+        .unwrap_or(f64::INFINITY);
+    let peaks: Vec<(f64, f64)> = extrema(&r.time_s, &w.lateral_m)
+        .into_iter()
+        .filter(|(t, a)| *t >= skip_s && *t < flange_at && *a > NOISE_M)
+        .collect();
+    if peaks.len() < 3 {
+        // Decide which way it went from the whole history after the skip.
+        let late: Vec<f64> = r
+            .time_s
+            .iter()
+            .zip(&w.lateral_m)
+            .filter(|(t, _)| **t >= skip_s)
+            .map(|(_, y)| y.abs())
+            .collect();
+        let max_late = late.iter().copied().fold(0.0, f64::max);
+        let rate = if flange_at.is_finite() {
+            f64::INFINITY
+        } else if max_late <= NOISE_M * 10.0 || late.last().is_some_and(|v| *v < 1e-3 * max_late)
+        {
+            f64::NEG_INFINITY
+        } else {
+            return None;
+        };
+        return Some(RateFit {
+            rate_1_s: rate,
+            frequency_hz: f64::NAN,
+            peaks: peaks.len(),
+            first_amplitude_m: peaks.first().map_or(f64::NAN, |p| p.1),
+            last_amplitude_m: peaks.last().map_or(f64::NAN, |p| p.1),
+        });
+    }
+    // Least squares of ln A on t.
+    let n = peaks.len() as f64;
+    let (st, sl) = peaks
+        .iter()
+        .fold((0.0, 0.0), |(a, b), (t, amp)| (a + t, b + amp.ln()));
+    let (mt, ml) = (st / n, sl / n);
+    let (num, den) = peaks.iter().fold((0.0, 0.0), |(a, b), (t, amp)| {
+        (a + (t - mt) * (amp.ln() - ml), b + (t - mt) * (t - mt))
+    });
+    let spacing = (peaks[peaks.len() - 1].0 - peaks[0].0) / (peaks.len() - 1) as f64;
+    Some(RateFit {
+        rate_1_s: num / den,
+        frequency_hz: 0.5 / spacing,
+        peaks: peaks.len(),
+        first_amplitude_m: peaks[0].1,
+        last_amplitude_m: peaks[peaks.len() - 1].1,
+    })
+}
+
+/// One evaluated speed.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SpeedSample {
+    pub speed_m_s: f64,
+    /// Growth rate (1/s): fitted (time), or the hunting eigenvalue's real
+    /// part (linear).
+    pub rate_1_s: f64,
+    pub frequency_hz: f64,
+    /// Results file of the run (time method).
+    pub results: Option<String>,
+}
+
+/// The critical speed of one law by one method.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CriticalSpeed {
+    pub creep_law: String,
+    pub method: String,
+    /// `None` when the rate does not cross zero in the range.
+    pub speed_m_s: Option<f64>,
+    pub speed_km_h: Option<f64>,
+    /// Final bracket (m/s).
+    pub bracket_m_s: Option<(f64, f64)>,
+    /// Hunting frequency at the critical speed (Hz) and, for the linear
+    /// method, the mode's damping ratio there.
+    pub frequency_hz: Option<f64>,
+    /// Every speed evaluated, sorted.
+    pub samples: Vec<SpeedSample>,
+    /// What happened when no crossing was found.
+    pub note: Option<String>,
+}
+
+/// Search settings (checked by [`CriticalSpeedSettings::validate`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CriticalSpeedSettings {
+    pub laws: Vec<String>,
+    pub min_m_s: f64,
+    pub max_m_s: f64,
+    pub tol_m_s: f64,
+    pub jobs: usize,
+    /// `time`, `ramp`, `linear`.
+    pub methods: Vec<String>,
+    pub out_dir: PathBuf,
+    /// Start transient skipped by the rate fit (s).
+    pub skip_s: f64,
+    /// Deceleration of the ramp (m/s²).
+    pub ramp_deceleration_m_s2: f64,
+}
+
+impl CriticalSpeedSettings {
+    pub fn validate(&self) -> Result<()> {
+        if !(self.min_m_s > 0.0 && self.max_m_s > self.min_m_s && self.max_m_s.is_finite()) {
+            bail!(
+                "speed range {} … {} m/s: need 0 < min < max",
+                self.min_m_s,
+                self.max_m_s
+            );
+        }
+        if !(self.tol_m_s > 0.0 && self.tol_m_s.is_finite()) {
+            bail!("tolerance {} m/s must be > 0", self.tol_m_s);
+        }
+        if self.jobs == 0 {
+            bail!("jobs must be >= 1");
+        }
+        for m in &self.methods {
+            if !["time", "ramp", "linear"].contains(&m.as_str()) {
+                bail!("method '{m}' is not time, ramp or linear");
+            }
+        }
+        if !(self.ramp_deceleration_m_s2 > 0.0 && self.ramp_deceleration_m_s2.is_finite()) {
+            bail!(
+                "ramp deceleration {} m/s² must be > 0",
+                self.ramp_deceleration_m_s2
+            );
+        }
+        Ok(())
+    }
+}
+
+/// Narrows the first sign change (− → +) of `rate(v)` on [min, max] to
+/// `tol`, evaluating `jobs` speeds at a time (in parallel). Returns the
+/// samples and the bracket.
+fn bracket(
+    settings: &CriticalSpeedSettings,
+    rate: &(dyn Fn(f64) -> Result<SpeedSample> + Sync),
+    stop: &AtomicBool,
+) -> Result<(Vec<SpeedSample>, Option<(f64, f64)>, Option<String>)> {
+    let jobs = settings.jobs.max(1);
+    let n0 = jobs.max(6);
+    let grid: Vec<f64> = (0..n0)
+        .map(|i| {
+            settings.min_m_s + (settings.max_m_s - settings.min_m_s) * i as f64 / (n0 - 1) as f64
+        })
+        .collect();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(jobs)
+        .build()
+        .context("thread pool")?;
+    let eval = |speeds: &[f64]| -> Result<Vec<SpeedSample>> {
+        pool.install(|| speeds.par_iter().map(|&v| rate(v)).collect())
+    };
+    let mut samples = eval(&grid)?;
+    let crossing = |s: &[SpeedSample]| -> Option<(f64, f64)> {
+        let mut sorted: Vec<&SpeedSample> = s.iter().collect();
+        sorted.sort_by(|a, b| a.speed_m_s.total_cmp(&b.speed_m_s));
+        sorted
+            .windows(2)
+            .find(|w| w[0].rate_1_s < 0.0 && w[1].rate_1_s >= 0.0)
+            .map(|w| (w[0].speed_m_s, w[1].speed_m_s))
+    };
+    let Some(mut br) = crossing(&samples) else {
+        let note = if samples.iter().all(|s| s.rate_1_s < 0.0) {
+            format!(
+                "stable over the whole range: critical speed above {} m/s",
+                settings.max_m_s
+            )
+        } else if samples.iter().all(|s| s.rate_1_s >= 0.0) {
+            format!(
+                "unstable over the whole range: critical speed below {} m/s",
+                settings.min_m_s
+            )
+        } else {
+            "no stable-to-unstable crossing found".to_string()
+        };
+        return Ok((samples, None, Some(note)));
+    };
+    while br.1 - br.0 > settings.tol_m_s
+        && !stop.load(std::sync::atomic::Ordering::Relaxed)
+    {
+        let k = jobs.max(2);
+        let inner: Vec<f64> = (1..=k)
+            .map(|i| br.0 + (br.1 - br.0) * i as f64 / (k + 1) as f64)
+            .collect();
+        let new = eval(&inner)?;
+        samples.extend(new);
+        let within: Vec<SpeedSample> = samples
+            .iter()
+            .filter(|s| s.speed_m_s >= br.0 - 1e-12 && s.speed_m_s <= br.1 + 1e-12)
+            .cloned()
+            .collect();
+        match crossing(&within) {
+            Some(b) => br = b,
+            None => break,
+        }
+    }
+    samples.sort_by(|a, b| a.speed_m_s.total_cmp(&b.speed_m_s));
+    Ok((samples, Some(br), None))
+}
+
+fn interpolate(samples: &[SpeedSample], br: (f64, f64)) -> (f64, f64) {
+    let a = samples.iter().find(|s| s.speed_m_s == br.0);
+    let b = samples.iter().find(|s| s.speed_m_s == br.1);
+    match (a, b) {
+        (Some(a), Some(b)) if a.rate_1_s.is_finite() && b.rate_1_s.is_finite() => {
+            let f = -a.rate_1_s / (b.rate_1_s - a.rate_1_s);
+            (
+                a.speed_m_s + f * (b.speed_m_s - a.speed_m_s),
+                a.frequency_hz + f * (b.frequency_hz - a.frequency_hz),
+            )
+        }
+        (Some(a), Some(b)) => (
+            0.5 * (a.speed_m_s + b.speed_m_s),
+            if a.frequency_hz.is_finite() {
+                a.frequency_hz
+            } else {
+                b.frequency_hz
+            },
+        ),
+        _ => (0.5 * (br.0 + br.1), f64::NAN),
+    }
+}
+
+fn with_overrides(scene: &LoadedScene, extra: &[String]) -> Result<LoadedScene> {
+    LoadedScene::from_text(
+        &scene.text,
+        scene.dir.clone(),
+        extra,
+        format!("{} ({})", scene.origin, extra.join(" ")),
+    )
+}
+
+/// Time-domain critical speed of one law (module docs).
+pub fn time_domain(
+    scene: &LoadedScene,
+    law: &str,
+    settings: &CriticalSpeedSettings,
+    stop: Arc<AtomicBool>,
+) -> Result<CriticalSpeed> {
+    let dir = settings.out_dir.join("runs");
+    std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+    let rate = |v: f64| -> Result<SpeedSample> {
+        let s = with_overrides(
+            scene,
+            &[
+                format!("initial.speed_m_s={v}"),
+                format!("contact.creep_law=\"{law}\""),
+            ],
+        )?;
+        let output = dir.join(format!("{law}_{v:.4}.h5"));
+        let req = RunRequest {
+            scene: s,
+            output: output.clone(),
+            plots: None,
+        };
+        // A failed run (e.g. derailment of a violently unstable run) counts
+        // as growing.
+        let r = match run_scene(&req, &mut |_| {}, Some(stop.clone())) {
+            Ok(_) => runtime::schema::results::read_results(&output)?,
+            Err(_) if output.exists() => runtime::schema::results::read_results(&output)?,
+            Err(e) => return Err(e.context(format!("run at {v} m/s"))),
+        };
+        let fit = growth_rate(&r, 0, settings.skip_s);
+        Ok(SpeedSample {
+            speed_m_s: v,
+            rate_1_s: fit.map_or(f64::NAN, |f| f.rate_1_s),
+            frequency_hz: fit.map_or(f64::NAN, |f| f.frequency_hz),
+            results: Some(output.display().to_string()),
+        })
+    };
+    let (samples, br, note) = bracket(settings, &rate, &stop)?;
+    let (speed, freq) = match br {
+        Some(b) => {
+            let (v, f) = interpolate(&samples, b);
+            (Some(v), Some(f))
+        }
+        None => (None, None),
+    };
+    Ok(CriticalSpeed {
+        creep_law: law.into(),
+        method: "time".into(),
+        speed_m_s: speed,
+        speed_km_h: speed.map(|v| v * 3.6),
+        bracket_m_s: br,
+        frequency_hz: freq,
+        samples,
+        note,
+    })
+}
+
+/// The hunting mode of the scene's vehicle at speed `v` with `law`.
+pub fn hunting_mode(scene: &LoadedScene, law: &str, v: f64) -> Result<Option<Mode>> {
+    let s = with_overrides(
+        scene,
+        &[
+            format!("initial.speed_m_s={v}"),
+            format!("contact.creep_law=\"{law}\""),
+        ],
+    )?;
+    let (track, _) = crate::run::load_track(&s)?;
+    let vfile = crate::vehicle_file::VehicleFile::load(&s.path(&s.scene.vehicle.file))?;
+    let vehicle = crate::run::vehicle_model(&vfile, &track, &s.path(&s.scene.track.rail_profile))?;
+    let mut settings: SystemSettings = crate::run::system_settings(&s, &vfile, &track)?;
+    settings.speed_m_s = v;
+    settings.deceleration_m_s2 = 0.0;
+    let (mut system, y0) =
+        VehicleSystem::assemble(&track, &vehicle, settings, InitialConditions::default())?;
+    let lin = linearise(&mut system, &y0)?;
+    Ok(lin.hunting())
+}
+
+/// Linear (eigenvalue) critical speed of one law.
+pub fn linear_domain(
+    scene: &LoadedScene,
+    law: &str,
+    settings: &CriticalSpeedSettings,
+    stop: Arc<AtomicBool>,
+) -> Result<CriticalSpeed> {
+    let rate = |v: f64| -> Result<SpeedSample> {
+        let m = hunting_mode(scene, law, v)?;
+        Ok(SpeedSample {
+            speed_m_s: v,
+            rate_1_s: m.map_or(f64::NAN, |m| m.eigenvalue.re),
+            frequency_hz: m.map_or(f64::NAN, |m| m.frequency_hz),
+            results: None,
+        })
+    };
+    let (samples, br, note) = bracket(settings, &rate, &stop)?;
+    let (speed, freq) = match br {
+        Some(b) => {
+            let (v, f) = interpolate(&samples, b);
+            (Some(v), Some(f))
+        }
+        None => (None, None),
+    };
+    Ok(CriticalSpeed {
+        creep_law: law.into(),
+        method: "linear".into(),
+        speed_m_s: speed,
+        speed_km_h: speed.map(|v| v * 3.6),
+        bracket_m_s: br,
+        frequency_hz: freq,
+        samples,
+        note,
+    })
+}
+
+/// Nonlinear critical speed by a speed ramp (module docs).
+pub fn ramp(
+    scene: &LoadedScene,
+    law: &str,
+    settings: &CriticalSpeedSettings,
+    stop: Arc<AtomicBool>,
+) -> Result<CriticalSpeed> {
+    let (v0, v1, a) = (
+        settings.max_m_s,
+        settings.min_m_s,
+        settings.ramp_deceleration_m_s2,
+    );
+    // Distance covered from v0 down to v1, plus the run-up at v0.
+    let distance = (v0 * v0 - v1 * v1) / (2.0 * a);
+    let length = distance + 50.0 + scene.scene.initial.s_m + 20.0;
+    let mut extra = vec![
+        format!("initial.speed_m_s={v0}"),
+        format!("initial.deceleration_m_s2={a}"),
+        format!("contact.creep_law=\"{law}\""),
+        format!("run.distance_m={distance}"),
+        format!("track.straight_m={length}"),
+    ];
+    for key in ["centerline", "tables", "cant", "irregularities"] {
+        if toml::Table::try_from(&scene.scene)?
+            .get("track")
+            .and_then(|t| t.get(key))
+            .is_some()
+        {
+            extra.push(format!("track.{key}="));
+        }
+    }
+    let s = with_overrides(scene, &extra)?;
+    let dir = settings.out_dir.join("runs");
+    std::fs::create_dir_all(&dir)?;
+    let output = dir.join(format!("{law}_ramp.h5"));
+    let req = RunRequest {
+        scene: s,
+        output: output.clone(),
+        plots: None,
+    };
+    let _ = run_scene(&req, &mut |_| {}, Some(stop));
+    let r = runtime::schema::results::read_results(&output)
+        .with_context(|| format!("the ramp run {}", output.display()))?;
+    let w = &r.wheelsets[0];
+    let peaks = extrema(&r.time_s, &w.lateral_m);
+    let saturated = peaks.iter().map(|p| p.1).fold(0.0, f64::max);
+    let threshold = 0.25 * saturated;
+    // The last peak above the threshold: the cycle dies after it.
+    let last = peaks.iter().rev().find(|p| p.1 >= threshold);
+    let speed_at = |t: f64| (v0 - a * t).max(0.0);
+    let (speed, note) = match last {
+        Some(p) if saturated > 1e-4 && speed_at(p.0) > v1 + 1e-9 => (Some(speed_at(p.0)), None),
+        Some(_) if saturated > 1e-4 => (
+            None,
+            Some(format!(
+                "the limit cycle survives down to {v1} m/s: nonlinear critical speed below it"
+            )),
+        ),
+        _ => (
+            None,
+            Some(format!(
+                "no limit cycle at {v0} m/s: start the ramp above the linear critical speed"
+            )),
+        ),
+    };
+    let freq = last.and_then(|p| {
+        let near: Vec<&(f64, f64)> = peaks
+            .iter()
+            .filter(|q| (q.0 - p.0).abs() < 2.0 && q.1 > 0.5 * threshold)
+            .collect();
+        (near.len() >= 3).then(|| {
+            0.5 * (near.len() - 1) as f64 / (near[near.len() - 1].0 - near[0].0)
+        })
+    });
+    Ok(CriticalSpeed {
+        creep_law: law.into(),
+        method: "ramp".into(),
+        speed_m_s: speed,
+        speed_km_h: speed.map(|v| v * 3.6),
+        bracket_m_s: None,
+        frequency_hz: freq,
+        samples: vec![SpeedSample {
+            speed_m_s: v0,
+            rate_1_s: f64::NAN,
+            frequency_hz: f64::NAN,
+            results: Some(output.display().to_string()),
+        }],
+        note,
+    })
+}
+
+/// Everything `sim critical-speed` reports.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CriticalSpeedReport {
+    pub scene: String,
+    pub results: Vec<CriticalSpeed>,
+    pub files: Vec<String>,
+}
+
+impl CriticalSpeedReport {
+    /// A table like the paper's Table 1.
+    pub fn to_text(&self) -> String {
+        let mut s = format!(
+            "critical speed, {}\n  {:<10} {:<7} {:>9} {:>9} {:>10}  bracket\n",
+            self.scene, "creep law", "method", "m/s", "km/h", "f [Hz]"
+        );
+        for r in &self.results {
+            match r.speed_m_s {
+                Some(v) => {
+                    s += &format!(
+                        "  {:<10} {:<7} {:>9.2} {:>9.1} {:>10.3}  {}\n",
+                        r.creep_law,
+                        r.method,
+                        v,
+                        v * 3.6,
+                        r.frequency_hz.unwrap_or(f64::NAN),
+                        r.bracket_m_s
+                            .map(|b| format!("{:.2} … {:.2} m/s", b.0, b.1))
+                            .unwrap_or_default()
+                    )
+                }
+                None => {
+                    s += &format!(
+                        "  {:<10} {:<7} {:>9} {:>9} {:>10}  {}\n",
+                        r.creep_law,
+                        r.method,
+                        "—",
+                        "—",
+                        "—",
+                        r.note.clone().unwrap_or_default()
+                    )
+                }
+            }
+        }
+        for f in &self.files {
+            s += &format!("  wrote {f}\n");
+        }
+        s
+    }
+
+    /// Writes `rates.csv` and `rates.png` (rate against speed per law and
+    /// method) into `dir`.
+    pub fn write(&mut self, dir: &Path) -> Result<()> {
+        use preproc::plot::{LineChart, Series, SeriesStyle, write_line_chart};
+        std::fs::create_dir_all(dir)?;
+        let mut csv = String::from("creep_law,method,speed_m_s,rate_1_s,frequency_hz,results\n");
+        let mut chart = LineChart::new(
+            format!("Growth rate of the hunting motion, {}", self.scene),
+            "speed [m/s]",
+            "growth rate σ [1/s] (> 0: unstable)",
+        );
+        for (k, r) in self.results.iter().enumerate() {
+            if r.method == "ramp" {
+                continue;
+            }
+            let mut pts = Vec::new();
+            for s in &r.samples {
+                csv += &format!(
+                    "{},{},{},{},{},{}\n",
+                    r.creep_law,
+                    r.method,
+                    s.speed_m_s,
+                    s.rate_1_s,
+                    s.frequency_hz,
+                    s.results.clone().unwrap_or_default()
+                );
+                if s.rate_1_s.is_finite() {
+                    pts.push((s.speed_m_s, s.rate_1_s));
+                }
+            }
+            chart.series.push(
+                Series::line(format!("{} ({})", r.creep_law, r.method), pts)
+                    .with_style(SeriesStyle::LineAndPoints)
+                    .with_colour(k),
+            );
+        }
+        let csv_path = dir.join("rates.csv");
+        std::fs::write(&csv_path, csv)?;
+        let png = dir.join("rates.png");
+        write_line_chart(&png, &chart, (1600, 900))?;
+        self.files.push(csv_path.display().to_string());
+        self.files.push(png.display().to_string());
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use runtime::schema::results::{WheelsetSample, WheelsetSeries};
+
+    fn synthetic(rate: f64, freq: f64, flange_after_s: f64) -> RunResults {
+        let mut r = RunResults::with_wheelsets(["ws"]);
+        let _ = WheelsetSeries::new("x");
+        for i in 0..4000 {
+            let t = i as f64 * 0.005;
+            let y = 0.002 * (rate * t).exp() * (2.0 * std::f64::consts::PI * freq * t).sin();
+            let mut s = WheelsetSample {
+                lateral_m: y,
+                ..Default::default()
+            };
+            if t > flange_after_s {
+                s.wheels[0].zones[1].in_contact = true;
+            }
+            r.push(t, &[s]).unwrap();
+        }
+        r
+    }
+
+    #[test]
+    fn rate_and_frequency_of_a_damped_sine() {
+        for rate in [-0.8, -0.1, 0.0, 0.3] {
+            let r = synthetic(rate, 2.5, f64::INFINITY);
+            let f = growth_rate(&r, 0, 1.0).unwrap();
+            assert!((f.rate_1_s - rate).abs() < 2e-3, "{rate}: {f:?}");
+            assert!((f.frequency_hz - 2.5).abs() < 1e-3, "{f:?}");
+        }
+    }
+
+    #[test]
+    fn peaks_after_a_flange_contact_are_ignored() {
+        // Growing until 6 s, then (pretend) flange contact: the fit uses the
+        // peaks before it only.
+        let r = synthetic(0.4, 2.0, 6.0);
+        let f = growth_rate(&r, 0, 1.0).unwrap();
+        assert!((f.rate_1_s - 0.4).abs() < 2e-3, "{f:?}");
+        // Flange within the transient: +∞.
+        let r = synthetic(0.4, 2.0, 0.5);
+        assert_eq!(growth_rate(&r, 0, 1.0).unwrap().rate_1_s, f64::INFINITY);
+    }
+
+    #[test]
+    fn bracketing_finds_the_first_crossing() {
+        let settings = CriticalSpeedSettings {
+            laws: vec![],
+            min_m_s: 10.0,
+            max_m_s: 100.0,
+            tol_m_s: 0.05,
+            jobs: 2,
+            methods: vec!["time".into()],
+            out_dir: PathBuf::new(),
+            skip_s: 0.0,
+            ramp_deceleration_m_s2: 1.0,
+        };
+        let rate = |v: f64| -> Result<SpeedSample> {
+            Ok(SpeedSample {
+                speed_m_s: v,
+                rate_1_s: (v - 63.7) * 0.1,
+                frequency_hz: 2.0,
+                results: None,
+            })
+        };
+        let (samples, br, _) = bracket(&settings, &rate, &AtomicBool::new(false)).unwrap();
+        let br = br.unwrap();
+        assert!(br.1 - br.0 <= 0.05 && br.0 <= 63.7 && br.1 >= 63.7, "{br:?}");
+        let (v, _) = interpolate(&samples, br);
+        assert!((v - 63.7).abs() < 1e-9, "{v}");
+    }
+}
