@@ -104,8 +104,7 @@ pub fn growth_rate(r: &RunResults, ws: usize, skip_s: f64) -> Option<RateFit> {
         let max_late = late.iter().copied().fold(0.0, f64::max);
         let rate = if flange_at.is_finite() {
             f64::INFINITY
-        } else if max_late <= NOISE_M * 10.0 || late.last().is_some_and(|v| *v < 1e-3 * max_late)
-        {
+        } else if max_late <= NOISE_M * 10.0 || late.last().is_some_and(|v| *v < 1e-3 * max_late) {
             f64::NEG_INFINITY
         } else {
             return None;
@@ -262,9 +261,7 @@ fn bracket(
         };
         return Ok((samples, None, Some(note)));
     };
-    while br.1 - br.0 > settings.tol_m_s
-        && !stop.load(std::sync::atomic::Ordering::Relaxed)
-    {
+    while br.1 - br.0 > settings.tol_m_s && !stop.load(std::sync::atomic::Ordering::Relaxed) {
         let k = jobs.max(2);
         let inner: Vec<f64> = (1..=k)
             .map(|i| br.0 + (br.1 - br.0) * i as f64 / (k + 1) as f64)
@@ -472,12 +469,32 @@ pub fn ramp(
         output: output.clone(),
         plots: None,
     };
-    let _ = run_scene(&req, &mut |_| {}, Some(stop));
+    if let Err(e) = run_scene(&req, &mut |_| {}, Some(stop)) {
+        // A derailed ramp (e.g. Kalker's unsaturated forces climbing the
+        // flange) has no limit cycle to follow down.
+        return Ok(CriticalSpeed {
+            creep_law: law.into(),
+            method: "ramp".into(),
+            speed_m_s: None,
+            speed_km_h: None,
+            bracket_m_s: None,
+            frequency_hz: None,
+            samples: vec![],
+            note: Some(format!("the ramp run failed: {e:#}")),
+        });
+    }
     let r = runtime::schema::results::read_results(&output)
         .with_context(|| format!("the ramp run {}", output.display()))?;
     let w = &r.wheelsets[0];
     let peaks = extrema(&r.time_s, &w.lateral_m);
-    let saturated = peaks.iter().map(|p| p.1).fold(0.0, f64::max);
+    // The cycle's saturated amplitude: the 90th percentile of the peaks
+    // (robust to the impacts of the run-up).
+    let mut amps: Vec<f64> = peaks.iter().map(|p| p.1).collect();
+    amps.sort_by(f64::total_cmp);
+    let saturated = amps
+        .get((amps.len() as f64 * 0.9) as usize)
+        .copied()
+        .unwrap_or(0.0);
     let threshold = 0.25 * saturated;
     // The last peak above the threshold: the cycle dies after it.
     let last = peaks.iter().rev().find(|p| p.1 >= threshold);
@@ -502,9 +519,8 @@ pub fn ramp(
             .iter()
             .filter(|q| (q.0 - p.0).abs() < 2.0 && q.1 > 0.5 * threshold)
             .collect();
-        (near.len() >= 3).then(|| {
-            0.5 * (near.len() - 1) as f64 / (near[near.len() - 1].0 - near[0].0)
-        })
+        (near.len() >= 3)
+            .then(|| 0.5 * (near.len() - 1) as f64 / (near[near.len() - 1].0 - near[0].0))
     });
     Ok(CriticalSpeed {
         creep_law: law.into(),
@@ -686,7 +702,10 @@ mod tests {
         };
         let (samples, br, _) = bracket(&settings, &rate, &AtomicBool::new(false)).unwrap();
         let br = br.unwrap();
-        assert!(br.1 - br.0 <= 0.05 && br.0 <= 63.7 && br.1 >= 63.7, "{br:?}");
+        assert!(
+            br.1 - br.0 <= 0.05 && br.0 <= 63.7 && br.1 >= 63.7,
+            "{br:?}"
+        );
         let (v, _) = interpolate(&samples, br);
         assert!((v - 63.7).abs() < 1e-9, "{v}");
     }
