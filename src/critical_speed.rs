@@ -214,6 +214,10 @@ impl CriticalSpeedSettings {
     }
 }
 
+/// The samples of a search, its final bracket (m/s) and a note when no
+/// crossing was found.
+type Bracketed = (Vec<SpeedSample>, Option<(f64, f64)>, Option<String>);
+
 /// Narrows the first sign change (− → +) of `rate(v)` on [min, max] to
 /// `tol`, evaluating `jobs` speeds at a time (in parallel). Returns the
 /// samples and the bracket.
@@ -221,7 +225,7 @@ fn bracket(
     settings: &CriticalSpeedSettings,
     rate: &(dyn Fn(f64) -> Result<SpeedSample> + Sync),
     stop: &AtomicBool,
-) -> Result<(Vec<SpeedSample>, Option<(f64, f64)>, Option<String>)> {
+) -> Result<Bracketed> {
     let jobs = settings.jobs.max(1);
     let n0 = jobs.max(6);
     let grid: Vec<f64> = (0..n0)
