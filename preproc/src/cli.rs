@@ -31,6 +31,25 @@ pub enum Command {
     Build(BuildArgs),
     /// Build only the contact lookup table of a wheel/rail profile pair.
     ContactTable(ContactTableArgs),
+    /// Import a contact geometry table computed by another code (DYTSI's RSGEO.dat) into HDF5.
+    ImportContactTable(ImportContactTableArgs),
+}
+
+/// Arguments of `track-preproc import-contact-table`.
+#[derive(Debug, Args)]
+pub struct ImportContactTableArgs {
+    /// Format of the input file (only DYTSI's RSGEO tables for now).
+    #[arg(long, value_parser = ["rsgeo"], value_name = "FORMAT")]
+    pub format: String,
+    /// The table to import.
+    #[arg(value_name = "FILE")]
+    pub input: PathBuf,
+    /// Output file (.h5), written atomically.
+    #[arg(short, long, value_name = "OUT.h5")]
+    pub output: PathBuf,
+    /// Print the summary as JSON.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// Profile pair and settings of a contact lookup table.
@@ -309,6 +328,7 @@ pub fn run(cli: Cli) -> Result<()> {
             }
             Ok(())
         }
+        Command::ImportContactTable(args) => import_contact_table(&args),
         Command::ContactTable(args) => {
             let inclination: Inclination = args
                 .rail_inclination
@@ -354,4 +374,85 @@ pub fn run(cli: Cli) -> Result<()> {
             Ok(())
         }
     }
+}
+
+/// Summary of `track-preproc import-contact-table`.
+#[derive(Debug, serde::Serialize)]
+pub struct ImportSummary {
+    pub input: String,
+    pub output: String,
+    pub format: String,
+    pub rows: usize,
+    pub y_min_m: f64,
+    pub y_max_m: f64,
+    pub y_step_m: f64,
+    /// The left wheel's contact at y = 0 (N0 N, δ rad, a b m, lateral m, r m, q0 m).
+    pub normal_force_at_0_n: f64,
+    pub contact_angle_at_0_rad: f64,
+    pub a_at_0_m: f64,
+    pub b_at_0_m: f64,
+    pub wheel_lateral_at_0_m: f64,
+    pub rolling_radius_at_0_m: f64,
+    pub penetration_at_0_m: f64,
+}
+
+fn import_contact_table(args: &ImportContactTableArgs) -> Result<()> {
+    use runtime::track::{InputFile, Provenance};
+    let table = match args.format.as_str() {
+        "rsgeo" => crate::rsgeo::read_rsgeo(&args.input)?,
+        other => anyhow::bail!("--format {other}: only rsgeo is supported"),
+    };
+    let text = std::fs::read_to_string(&args.input)
+        .with_context(|| format!("reading {}", args.input.display()))?;
+    let provenance = Provenance {
+        command_line: command_line(),
+        inputs: vec![InputFile {
+            role: args.format.clone(),
+            path: args.input.display().to_string(),
+            text,
+        }],
+    };
+    runtime::schema::write_imported_contact_table_file(&args.output, &table, &provenance)
+        .with_context(|| format!("writing {}", args.output.display()))?;
+    let at0 = table
+        .row_at(0.0)
+        .context("the table does not cover y = 0")?;
+    let (lo, hi) = table.range_m();
+    let summary = ImportSummary {
+        input: args.input.display().to_string(),
+        output: args.output.display().to_string(),
+        format: table.format.clone(),
+        rows: table.rows.len(),
+        y_min_m: lo,
+        y_max_m: hi,
+        y_step_m: table.step_m(),
+        normal_force_at_0_n: at0.normal_force_n,
+        contact_angle_at_0_rad: at0.contact_angle_rad,
+        a_at_0_m: at0.a_m,
+        b_at_0_m: at0.b_m,
+        wheel_lateral_at_0_m: at0.wheel_lateral_m,
+        rolling_radius_at_0_m: at0.rolling_radius_m,
+        penetration_at_0_m: at0.penetration_m,
+    };
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&summary)?);
+    } else {
+        println!(
+            "wrote {}\n  {} rows ({}), y from {:+.3} to {:+.3} mm every {:.4} mm (rows: the left wheel)\n  at y = 0: N0 = {:.0} N, δ = {:.5} rad, a = {:.3} mm, b = {:.3} mm, r = {:.6} m, contact point {:.6} m from the centre, q0 = {:.2} µm",
+            summary.output,
+            summary.rows,
+            summary.format,
+            lo * 1e3,
+            hi * 1e3,
+            summary.y_step_m * 1e3,
+            at0.normal_force_n,
+            at0.contact_angle_rad,
+            at0.a_m * 1e3,
+            at0.b_m * 1e3,
+            at0.rolling_radius_m,
+            at0.wheel_lateral_m,
+            at0.penetration_m * 1e6
+        );
+    }
+    Ok(())
 }

@@ -23,6 +23,7 @@ pub mod pipeline;
 pub mod plot;
 pub mod progress;
 pub mod rails;
+pub mod rsgeo;
 pub mod space_curve;
 pub mod summary;
 

@@ -25,6 +25,7 @@ pub mod dynamics;
 pub mod element;
 pub mod elliptic;
 pub mod hertz;
+pub mod imported_contact;
 pub mod integrator;
 pub mod normal;
 pub mod profile_import;

@@ -37,6 +37,38 @@ pub(crate) fn forces(input: &CreepInput) -> Result<CreepForces, CreepError> {
     })
 }
 
+/// The heuristic law (module docs) on Kalker's linear forces built from
+/// **given** coefficients instead of Kalker's table at the ellipse ratio:
+/// for contact data that carry their own C11, C22, C23 (an imported contact
+/// table, [`crate::dynamics::imported_contact`]). With `saturate = false`
+/// the Kalker linear forces themselves. Such data have no C33: the spin
+/// moment is neglected either way (Mz = 0, as in the Shen–Hedrick–Elkins
+/// law). `c.c33` is not used. The input is validated here.
+pub fn heuristic_with_coefficients(
+    input: &CreepInput,
+    c: &super::KalkerCoefficients,
+    saturate: bool,
+) -> Result<CreepForces, CreepError> {
+    input.validate()?;
+    if input.normal_force_n == 0.0 {
+        return Ok(CreepForces::ZERO);
+    }
+    let linear = super::kalker::linear_forces_with(input, c);
+    let limit_n = input.friction_coefficient * input.normal_force_n;
+    let scale = if !saturate {
+        1.0
+    } else if limit_n == 0.0 {
+        0.0
+    } else {
+        saturation_ratio(linear.tangential_n() / limit_n)
+    };
+    Ok(CreepForces {
+        fx_n: linear.fx_n * scale,
+        fy_n: linear.fy_n * scale,
+        mz_nm: 0.0,
+    })
+}
+
 /// F/F′ as a function of u = F′/(μN) ≥ 0 (module docs).
 fn saturation_ratio(u: f64) -> f64 {
     if u <= 3.0 {

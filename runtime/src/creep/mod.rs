@@ -32,6 +32,7 @@ mod kalker;
 mod polach;
 
 pub use fastsim::{FastsimParams, TractionBound};
+pub use heuristic::heuristic_with_coefficients;
 pub use kalker::{KalkerCoefficients, kalker_coefficients};
 pub use polach::{PolachParams, SlipVelocityFriction};
 

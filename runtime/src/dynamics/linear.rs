@@ -281,12 +281,13 @@ pub fn linearise(
     let mut frames = Vec::new();
     for k in 0..y0.len() / 13 {
         let st = BodyState::read_from(&y0[13 * k..13 * k + 13]);
-        let s = super::track_motion::project_s(&track.centerline, &st.position_m, 0.0)
-            .map_err(|source| DynamicsError::Track {
+        let s = super::track_motion::project_s(&track.centerline, &st.position_m, 0.0).map_err(
+            |source| DynamicsError::Track {
                 what: "linearisation".into(),
                 t_s: 0.0,
                 source,
-            })?;
+            },
+        )?;
         frames.push(track_rotation(&track.centerline, s).map_err(|source| {
             DynamicsError::Track {
                 what: "linearisation".into(),

@@ -13,6 +13,8 @@
 //! /right_rail/database      K×13 f64
 //! /contact_table/…          optional: the contact lookup table (see below)
 //! /contact_table/…          optional: the contact lookup table (see below)
+//! /imported_contact_table/… optional: a contact table from another code
+//!                           (`track-preproc import-contact-table`; layout in `imported`)
 //! /input/command_line       string
 //! /input/<role>             string: the input file's text, attribute `path`
 //! ```
@@ -39,10 +41,12 @@ mod atomic;
 mod attrs;
 mod columns;
 mod contact_table;
+mod imported;
 pub mod results;
 mod track;
 
 pub use atomic::AtomicFile;
+pub use imported::{read_imported_contact_table, write_imported_contact_table_file};
 pub use results::{
     RESULTS_SCHEMA, RESULTS_SCHEMA_VERSION, ResultsError, RunResults, WheelSample, WheelSeries,
     WheelsetSample, WheelsetSeries, ZoneSample, ZoneSeries, read_results, write_results,
