@@ -24,6 +24,36 @@ pub enum Command {
     Run(RunArgs),
     /// Critical speed per creep law: time-domain growth rates, a speed ramp, eigenvalues.
     CriticalSpeed(CriticalSpeedArgs),
+    /// Bifurcation diagram: hunting amplitude against speed (up-scan and ramp-down).
+    Bifurcation {
+        /// Scene file (TOML).
+        #[arg(value_name = "SCENE.toml")]
+        scene: PathBuf,
+        /// Lowest speed [m/s].
+        #[arg(long, value_name = "V")]
+        min: f64,
+        /// Highest speed (start of the ramp-down) [m/s].
+        #[arg(long, value_name = "V")]
+        max: f64,
+        /// Speed step of the up-scan [m/s].
+        #[arg(long, default_value_t = 2.0, value_name = "V")]
+        step: f64,
+        /// Deceleration of the ramp-down [m/s²].
+        #[arg(long, default_value_t = 0.5, value_name = "A")]
+        ramp_deceleration: f64,
+        /// Runs in parallel [default: the number of cores].
+        #[arg(long, value_name = "N")]
+        jobs: Option<usize>,
+        /// Set a scene entry for every run (repeatable).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+        /// Output directory.
+        #[arg(long, value_name = "DIR", default_value = "bifurcation")]
+        out: PathBuf,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
     /// Lateral displacement of one wheelset from several results files in one chart.
     Compare {
         /// Results files written by `sim run`.
@@ -393,6 +423,42 @@ pub fn run(cli: Cli) -> Result<()> {
         }
         Command::Run(args) => run_command(&args),
         Command::CriticalSpeed(args) => critical_speed_command(&args),
+        Command::Bifurcation {
+            scene,
+            min,
+            max,
+            step,
+            ramp_deceleration,
+            jobs,
+            set,
+            out,
+            json,
+        } => {
+            use std::sync::Arc;
+            use std::sync::atomic::{AtomicBool, Ordering};
+            let scene = crate::scene::LoadedScene::load(&scene, &set)?;
+            let settings = crate::bifurcation::BifurcationSettings {
+                min_m_s: min,
+                max_m_s: max,
+                step_m_s: step,
+                deceleration_m_s2: ramp_deceleration,
+                jobs: jobs
+                    .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
+                out_dir: out,
+            };
+            let stop = Arc::new(AtomicBool::new(false));
+            {
+                let stop = stop.clone();
+                let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
+            }
+            let b = crate::bifurcation::bifurcation(&scene, &settings, stop)?;
+            if json {
+                println!("{}", serde_json::to_string_pretty(&b)?);
+            } else {
+                print!("{}", b.to_text());
+            }
+            Ok(())
+        }
         Command::Compare {
             runs,
             out,

@@ -1,6 +1,7 @@
 //! The `sim` application: scenes, runs, outputs, plots and sweeps on top of
 //! the `runtime` library and the `preproc` pre-processor.
 
+pub mod bifurcation;
 pub mod cache;
 pub mod cli;
 pub mod contact;
