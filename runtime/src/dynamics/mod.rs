@@ -8,6 +8,7 @@
 //! - [`system`]: the vehicle on the track as a first-order system for
 //!   [`crate::integrator`] (the paper's per-step algorithm);
 //! - [`table_contact`]: contact from the lookup table instead of Newton;
+//! - [`imported_contact`]: contact from a table computed by another code;
 //! - [`recorder`]: sampled outputs into [`crate::schema::results::RunResults`];
 //! - [`linear`]: linearisation around the centred run, modes, hunting.
 //!
@@ -17,6 +18,7 @@
 //! the axle is part of their angular velocity; their contact geometry and
 //! the elements attached to them use the non-spinning axle frame.
 
+pub mod imported_contact;
 pub mod linear;
 pub mod recorder;
 pub mod system;
