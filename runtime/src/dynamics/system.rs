@@ -20,6 +20,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
+use super::imported_contact::{
+    ImportedContactMethod, imported_contacts, imported_force, settle_imported,
+};
 use super::table_contact::table_contacts;
 use super::track_motion::{
     TrackRelative, project_s, reference_anchor, track_relative, track_rotation, vehicle_point,
@@ -57,6 +60,11 @@ pub enum ContactMethod {
     /// frame evaluated at those points for the actual pose (one table per
     /// wheelset, in vehicle order).
     Table(Vec<Arc<ContactTable>>),
+    /// One contact per wheel from a contact table computed by another code
+    /// (one table per wheelset, in vehicle order), with that code's normal
+    /// force and creep model and an optional shear modulus of its own
+    /// ([`super::imported_contact`]).
+    Imported(ImportedContactMethod),
 }
 
 /// Settings of a run that the system needs.
@@ -250,6 +258,13 @@ impl<'a> VehicleSystem<'a> {
                 wheelset: String::from("(all)"),
                 reason: e.to_string(),
             })?;
+        if let ContactMethod::Imported(m) = &settings.method {
+            m.validate(&settings.forces, vehicle.wheelsets.len())
+                .map_err(|reason| DynamicsError::Assembly {
+                    wheelset: String::from("(all)"),
+                    reason,
+                })?;
+        }
         let speed = settings.speed_m_s;
         if !(speed.is_finite() && speed >= 0.0) {
             return Err(DynamicsError::Setting {
@@ -305,7 +320,7 @@ impl<'a> VehicleSystem<'a> {
         let mut initial_states = Vec::new();
         let mut memory = Vec::new();
         let mut s_guess = Vec::new();
-        for w in &vehicle.wheelsets {
+        for (i, w) in vehicle.wheelsets.iter().enumerate() {
             let assembly_err = |reason: String| DynamicsError::Assembly {
                 wheelset: w.name.clone(),
                 reason,
@@ -336,22 +351,22 @@ impl<'a> VehicleSystem<'a> {
                 load_per_wheel_n: w.static_wheel_load_n,
                 material,
             };
-            let nominal = settle(&w.contact, track, s_w, w.y_m, 0.0, support, &mut solver)
+            // The imported method seats the wheelset from its table
+            // (`settle_imported`); the others settle it on its profiles.
+            let settle_at = |y: f64, yaw: f64, solver: &mut ContactSolver| match &settings.method {
+                ContactMethod::Imported(m) => {
+                    settle_imported(track, &m.tables[i], s_w, y, yaw, w.static_wheel_load_n)
+                }
+                _ => settle(&w.contact, track, s_w, y, yaw, support, solver),
+            };
+            let nominal = settle_at(w.y_m, 0.0, &mut solver)
                 .map_err(|e| assembly_err(format!("settling at assembly: {e}")))?;
             nominal_anchors.push(Anchor::fixed(nominal.pose.position, nominal.pose.frame));
             solver.reset();
             // Time stepping: consecutive poses are micrometres apart.
             solver.options.reuse_clear_pieces = true;
-            let st = settle(
-                &w.contact,
-                track,
-                s_w,
-                w.y_m + initial.lateral_m,
-                initial.yaw_rad,
-                support,
-                &mut solver,
-            )
-            .map_err(|e| assembly_err(format!("settling at the initial conditions: {e}")))?;
+            let st = settle_at(w.y_m + initial.lateral_m, initial.yaw_rad, &mut solver)
+                .map_err(|e| assembly_err(format!("settling at the initial conditions: {e}")))?;
             // Rigid-body state: axle frame (no spin angle yet), moving with
             // the track frame at the set speed, spinning at V/r₀.
             let frame = st.pose.frame;
@@ -600,10 +615,19 @@ impl<'a> VehicleSystem<'a> {
             // Written in place: a snapshot holds a dozen candidates and
             // forces (kilobytes), copying them costs more than their maths.
             let snap = &mut self.snapshots[i];
+            let mut imported_rows = None;
             snap.contacts = match &self.settings.method {
                 ContactMethod::Online => self.solvers[i].solve(&w.contact, track, &pose),
                 ContactMethod::Table(tables) => {
                     table_contacts(&w.contact, track, &pose, &relative, &tables[i])
+                }
+                ContactMethod::Imported(m) => {
+                    imported_contacts(track, &pose, relative.lateral_m, &m.tables[i]).map(
+                        |(contacts, rows)| {
+                            imported_rows = Some(rows);
+                            contacts
+                        },
+                    )
                 }
             }
             .map_err(|source| DynamicsError::Contact {
@@ -629,12 +653,21 @@ impl<'a> VehicleSystem<'a> {
                     let Some(cand) = &snap.contacts.candidates[k][seg] else {
                         continue;
                     };
-                    let f = evaluate_contact(
-                        &self.settings.forces,
-                        cand,
-                        &self.memory[i][k][seg],
-                        &motion,
-                    )
+                    let f = match (&self.settings.method, &imported_rows) {
+                        (ContactMethod::Imported(m), Some(rows)) => imported_force(
+                            &self.settings.forces,
+                            m.shear_modulus_pa(&self.settings.forces),
+                            &rows[k],
+                            cand,
+                            &motion,
+                        ),
+                        _ => evaluate_contact(
+                            &self.settings.forces,
+                            cand,
+                            &self.memory[i][k][seg],
+                            &motion,
+                        ),
+                    }
                     .map_err(|source| DynamicsError::Force {
                         wheelset: w.name.clone(),
                         t_s: t,
