@@ -22,11 +22,13 @@ use runtime::contact::{ContactOptions, FlangeSearch, WheelsetContactModel};
 use runtime::contact_force::ContactForceSettings;
 use runtime::contact_table::ContactTable;
 use runtime::creepage::CreepageOptions;
+use runtime::dynamics::imported_contact::ImportedContactMethod;
 use runtime::dynamics::{
     BodySpec, ContactMethod, ElementSpec, End, InitialConditions, Recorder, ReferenceSpec,
     SystemSettings, VehicleModel, VehicleSystem, WheelsetSpec,
 };
 use runtime::hertz::Material;
+use runtime::imported_contact::ImportedContactTable;
 use runtime::integrator::{IntegrationStats, OutputGrid, integrate};
 use runtime::normal::NormalForceModel;
 use runtime::profile::{RailPlacement, RailProfileOptions, WheelProfileOptions};
@@ -314,6 +316,20 @@ pub fn system_settings(
     let creep_law = scene.creep_law()?;
     let method = match scene.contact.method.as_str() {
         "table" => ContactMethod::Table(contact_tables(vfile, track, &rail_path, material)?),
+        "imported" => {
+            let path = ls.path(
+                scene
+                    .contact
+                    .imported_table
+                    .as_ref()
+                    .context("[contact] imported_table")?,
+            );
+            let table = Arc::new(imported_table(&path)?);
+            ContactMethod::Imported(ImportedContactMethod {
+                tables: vec![table; vfile.wheelsets.len()],
+                shear_modulus_override_pa: scene.contact.shear_modulus_pa,
+            })
+        }
         _ => ContactMethod::Online,
     };
     let flange: FlangeSearch = scene.contact.flange.parse().map_err(anyhow::Error::msg)?;
@@ -661,6 +677,22 @@ pub fn vehicle_model(v: &VehicleFile, track: &TrackTables, rail: &Path) -> Resul
         references,
         elements,
     })
+}
+
+/// An imported contact table: a `.h5`/`.hdf5` file written by
+/// `track-preproc import-contact-table`, or any other file read as a DYTSI
+/// RSGEO text table (`preproc::rsgeo`).
+pub fn imported_table(path: &Path) -> Result<ImportedContactTable> {
+    let hdf5 = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("h5") || e.eq_ignore_ascii_case("hdf5"));
+    if hdf5 {
+        runtime::schema::read_imported_contact_table(path)
+            .with_context(|| format!("imported contact table {}", path.display()))
+    } else {
+        preproc::rsgeo::read_rsgeo(path)
+            .with_context(|| format!("imported contact table {} (RSGEO)", path.display()))
+    }
 }
 
 /// Contact lookup tables of every wheelset (built on demand for the

@@ -22,7 +22,10 @@
 //! file = "../vehicles/ml95_like_wheelset.toml"
 //!
 //! [contact]
-//! method = "online"         # online | table
+//! method = "online"         # online | table | imported
+//! # imported_table = "../contact/cooperrider_RSGEO.dat"  # method = "imported": a .h5 from
+//! #                         # track-preproc import-contact-table, or the RSGEO .dat itself
+//! # shear_modulus_pa = 1.4384e11  # imported only: G of the creep forces instead of E/(2(1+ν))
 //! flange = "auto"           # off | on | auto
 //! creep_law = "polach"      # kalker | heuristic | polach | fastsim | none
 //! friction = 0.3
@@ -106,10 +109,21 @@ pub struct VehicleSection {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSection {
-    /// `online` (Newton at every evaluation) or `table` (contact lookup
-    /// table, built on demand for the wheel/rail pair and cached).
+    /// `online` (Newton at every evaluation), `table` (contact lookup
+    /// table, built on demand for the wheel/rail pair and cached) or
+    /// `imported` (one contact per wheel from a table computed by another
+    /// code, `imported_table`; `runtime::dynamics::imported_contact`).
     #[serde(default = "default_method")]
     pub method: String,
+    /// With `method = "imported"`: the table, for every wheelset — a `.h5`
+    /// (or `.hdf5`) written by `track-preproc import-contact-table`, or
+    /// anything else read as a DYTSI RSGEO text table on the fly.
+    #[serde(default)]
+    pub imported_table: Option<PathBuf>,
+    /// With `method = "imported"`: the shear modulus G of the creep forces
+    /// (Pa), instead of E/(2(1 + ν)) (DYTSI's Cooperrider model: 1.4384e11).
+    #[serde(default)]
+    pub shear_modulus_pa: Option<f64>,
     /// Flange search: `off`, `on` or `auto`.
     #[serde(default = "default_flange")]
     pub flange: String,
@@ -408,10 +422,32 @@ impl Scene {
         );
         let c = &self.contact;
         ensure!(
-            ["online", "table"].contains(&c.method.as_str()),
-            "[contact] method '{}' is not online or table",
+            ["online", "table", "imported"].contains(&c.method.as_str()),
+            "[contact] method '{}' is not online, table or imported",
             c.method
         );
+        if c.method == "imported" {
+            ensure!(
+                c.imported_table.is_some(),
+                "[contact] method = \"imported\" needs imported_table (a .h5 from track-preproc import-contact-table, or an RSGEO .dat)"
+            );
+            ensure!(
+                ["heuristic", "kalker", "none"].contains(&c.creep_law.as_str()),
+                "[contact] creep_law '{}' is not available with method = \"imported\" (the table brings its own Kalker coefficients): use heuristic, kalker or none",
+                c.creep_law
+            );
+        } else {
+            ensure!(
+                c.imported_table.is_none() && c.shear_modulus_pa.is_none(),
+                "[contact] imported_table and shear_modulus_pa go with method = \"imported\" only"
+            );
+        }
+        if let Some(g) = c.shear_modulus_pa {
+            ensure!(
+                g.is_finite() && g > 0.0,
+                "[contact] shear_modulus_pa = {g} must be finite and > 0"
+            );
+        }
         c.flange
             .parse::<runtime::contact::FlangeSearch>()
             .map_err(anyhow::Error::msg)
