@@ -173,7 +173,10 @@ fn side_index(side: Side) -> usize {
 }
 
 /// Name of the table in out-of-range errors.
-const TABLE_NAME: &str = "imported contact (beyond it the wheelset has derailed in that model)";
+const TABLE_NAME: &str = "imported contact";
+/// The coordinate in out-of-range errors.
+const COORDINATE: &str =
+    "wheelset lateral displacement (derailed: no contact beyond the table in that model)";
 
 fn table_error(e: ImportedTableError, y_m: f64, table: &ImportedContactTable) -> ContactError {
     match e {
@@ -181,7 +184,7 @@ fn table_error(e: ImportedTableError, y_m: f64, table: &ImportedContactTable) ->
             let (min_m, max_m) = table.wheelset_range_m();
             ContactError::Track(TrackError::OutOfRange {
                 table: TABLE_NAME,
-                coordinate: "wheelset lateral displacement",
+                coordinate: COORDINATE,
                 value_m: y_m,
                 min_m,
                 max_m,
