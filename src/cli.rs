@@ -24,6 +24,8 @@ pub enum Command {
     Run(RunArgs),
     /// Critical speed per creep law: time-domain growth rates, a speed ramp, eigenvalues.
     CriticalSpeed(CriticalSpeedArgs),
+    /// Speed against accuracy: the scene over the numerical knobs against a fine reference run.
+    Tradeoff(crate::tradeoff::TradeoffArgs),
     /// Bifurcation diagram: hunting amplitude against speed (up-scan and ramp-down).
     Bifurcation {
         /// Scene file (TOML).
@@ -68,6 +70,21 @@ pub enum Command {
         /// Chart title.
         #[arg(long, default_value = "Lateral displacement")]
         title: String,
+    },
+    /// Our contact table of a wheel/rail pair against an imported one (rolling radius, contact angle, semi-axes, Δr): PNGs, CSV, summary.
+    CompareContactTables {
+        /// Our contact lookup table (from track-preproc contact-table).
+        #[arg(long, value_name = "OURS.h5")]
+        ours: PathBuf,
+        /// The imported table: a .h5 from track-preproc import-contact-table, or an RSGEO .dat.
+        #[arg(long, value_name = "IMPORTED.h5")]
+        imported: PathBuf,
+        /// Output directory (PNGs and comparison.csv).
+        #[arg(long, value_name = "DIR")]
+        out: PathBuf,
+        /// Print the summary as JSON.
+        #[arg(long)]
+        json: bool,
     },
     /// Print both rails' interpolated position and frame at a centreline distance.
     Probe {
@@ -423,6 +440,7 @@ pub fn run(cli: Cli) -> Result<()> {
         }
         Command::Run(args) => run_command(&args),
         Command::CriticalSpeed(args) => critical_speed_command(&args),
+        Command::Tradeoff(args) => crate::tradeoff::command(&args),
         Command::Bifurcation {
             scene,
             min,
@@ -480,6 +498,20 @@ pub fn run(cli: Cli) -> Result<()> {
                 loaded.iter().map(|(l, r)| (l.clone(), r)).collect();
             crate::run_plots::write_comparison_plot(&refs, wheelset, &out, &title)?;
             println!("wrote {}", out.display());
+            Ok(())
+        }
+        Command::CompareContactTables {
+            ours,
+            imported,
+            out,
+            json,
+        } => {
+            let c = crate::compare_tables::compare_contact_tables(&ours, &imported, &out)?;
+            if json {
+                println!("{}", serde_json::to_string_pretty(&c)?);
+            } else {
+                print!("{}", c.to_text());
+            }
             Ok(())
         }
         Command::Probe { file, s, json } => {

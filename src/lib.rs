@@ -4,6 +4,7 @@
 pub mod bifurcation;
 pub mod cache;
 pub mod cli;
+pub mod compare_tables;
 pub mod contact;
 pub mod creep_curves;
 pub mod critical_speed;
@@ -11,4 +12,5 @@ pub mod probe;
 pub mod run;
 pub mod run_plots;
 pub mod scene;
+pub mod tradeoff;
 pub mod vehicle_file;
