@@ -1,0 +1,12 @@
+//! Numerical stability at the extremes (issue 7): each case is a scene (or a
+//! track, a profile pair, an input file) pushed to the edge of its range and
+//! the property it must keep there — no panic, no NaN or infinity in the
+//! results, energy/momentum bookkeeping where it applies, and a clear
+//! diagnostic (time, wheel, state) where the model leaves its validity.
+//!
+//! Cargo builds this directory as one test target: `cargo test --test extremes`.
+//! Cases that take minutes are `#[ignore]` (README: "Extremes").
+
+#[path = "../common/mod.rs"]
+#[allow(dead_code)]
+mod common;
