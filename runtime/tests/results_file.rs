@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::{RwLock, RwLockReadGuard};
 
+use runtime::contact::nadal::{NadalLimit, nadal_limit};
 use runtime::schema::{
     RESULTS_SCHEMA_VERSION, ResultsError, RunResults, SchemaError, WheelSample, WheelsetSample,
     ZoneSample, read_results, write_results,
@@ -45,6 +46,8 @@ fn zone(k: usize, seed: f64, in_contact: bool) -> ZoneSample {
         y_wheel_m: v(10.0),
         y_rail_m: v(11.0),
         contact_angle_rad: v(12.0),
+        lead_m: v(13.0),
+        fallback: k % 11 == 0,
     }
 }
 
@@ -82,6 +85,11 @@ fn synthetic(n: usize) -> RunResults {
             .collect();
         r.push(t, &samples).unwrap();
     }
+    r.wheelsets[0].wheels[1].nadal = Some(NadalLimit {
+        flange_angle_rad: 1.2,
+        friction: 0.3,
+        limit: nadal_limit(1.2, 0.3),
+    });
     r
 }
 
@@ -108,6 +116,10 @@ fn assert_same(a: &RunResults, b: &RunResults) {
         }
         for (wx, wy) in x.wheels.iter().zip(&y.wheels) {
             assert!(same_bits(&wx.travelled_m, &wy.travelled_m));
+            assert!(same_bits(&wx.y_n, &wy.y_n));
+            assert!(same_bits(&wx.q_n, &wy.q_n));
+            assert!(same_bits(&wx.y_over_q, &wy.y_over_q));
+            assert_eq!(wx.nadal, wy.nadal);
             assert_eq!(wx.flange_contact, wy.flange_contact);
             for (zx, zy) in wx.zones.iter().zip(&wy.zones) {
                 assert_eq!(zx.in_contact, zy.in_contact);
@@ -127,10 +139,12 @@ fn assert_same(a: &RunResults, b: &RunResults) {
                             s.y_wheel_m,
                             s.y_rail_m,
                             s.contact_angle_rad,
+                            s.lead_m,
                         ]
                         .map(f64::to_bits)
                     };
                     assert_eq!(bits(&sx), bits(&sy), "sample {i}");
+                    assert_eq!(sx.fallback, sy.fallback, "sample {i}");
                 }
             }
         }
@@ -232,6 +246,9 @@ fn results_h5dump_shows_the_layout() {
         "DATASET \"lateral_force_n\"",
         "DATASET \"phi_1_m\"",
         "DATASET \"contact_angle_rad\"",
+        "DATASET \"lead_m\"",
+        "DATASET \"fallback\"",
+        "DATASET \"y_over_q\"",
         "ATTRIBUTE \"units\"",
         "ATTRIBUTE \"description\"",
         "DATASPACE  SIMPLE { ( 20 ) / ( 20 ) }",
@@ -240,9 +257,10 @@ fn results_h5dump_shows_the_layout() {
     ] {
         assert!(text.contains(needle), "h5dump -H lacks {needle}:\n{text}");
     }
-    // Every wheel has 2 zones × 13 datasets + 2: 28 per wheel, 56 + 5 per
-    // wheelset, plus time_s and scene.
-    assert_eq!(text.matches("DATASET \"").count(), 2 * (5 + 2 * 28) + 2);
+    // Every wheel has 2 zones × 15 datasets (in_contact, 13 values,
+    // fallback) + 5 (travelled_m, flange_contact, y_n, q_n, y_over_q): 35
+    // per wheel, 70 + 5 per wheelset, plus time_s and scene.
+    assert_eq!(text.matches("DATASET \"").count(), 2 * (5 + 2 * 35) + 2);
 
     // The values, not just the header: schema and a units attribute.
     let out = Command::new("h5dump")
@@ -384,4 +402,72 @@ fn results_reader_refuses_other_files() {
         e.to_string().contains("/wheelset_0/left/travelled_m"),
         "{e}"
     );
+}
+
+#[test]
+fn results_y_over_q_sign_and_old_files() {
+    let _guard = shared();
+    // Y is + towards the track centre: a left wheel pushed back to the
+    // right (lateral −) and a right wheel pushed back to the left (+) both
+    // have Y > 0; Q sums the zones.
+    let tread = ZoneSample {
+        in_contact: true,
+        lateral_force_n: -1000.0,
+        vertical_force_n: 40e3,
+        ..zone(0, 1.0, true)
+    };
+    let flange = ZoneSample {
+        lateral_force_n: -20e3,
+        vertical_force_n: 10e3,
+        ..tread
+    };
+    let mut s = WheelsetSample::default();
+    s.wheels[0].zones = [tread, flange];
+    s.wheels[1].zones = [
+        ZoneSample {
+            lateral_force_n: 3000.0,
+            ..tread
+        },
+        ZoneSample::NO_CONTACT,
+    ];
+    let mut r = RunResults::with_wheelsets(["w"]);
+    r.push(0.0, &[s]).unwrap();
+    r.push(0.001, &[WheelsetSample::default()]).unwrap();
+    let left = &r.wheelsets[0].wheels[0];
+    assert_eq!(left.y_n[0], 21e3);
+    assert_eq!(left.q_n[0], 50e3);
+    assert_eq!(left.y_over_q[0], 21e3 / 50e3);
+    let right = &r.wheelsets[0].wheels[1];
+    assert_eq!(right.y_over_q[0], 3000.0 / 40e3);
+    assert!(left.y_over_q[1].is_nan(), "no contact: NaN");
+    assert_eq!(left.max_y_over_q(), Some(0.42));
+
+    // A version-1 file written before y_n, q_n, y_over_q, lead_m and
+    // fallback existed reads back with Y/Q recomputed from the zones.
+    let dir = scratch("results_old_layout");
+    let path = dir.join("old.h5");
+    write_results(&path, &synthetic(6)).unwrap();
+    let full = read_results(&path).unwrap();
+    {
+        let f = hdf5::File::open_rw(&path).unwrap();
+        for ws in ["wheelset_0", "wheelset_1"] {
+            for wheel in ["left", "right"] {
+                let g = f.group(&format!("{ws}/{wheel}")).unwrap();
+                for name in ["y_n", "q_n", "y_over_q"] {
+                    g.unlink(name).unwrap();
+                }
+                for zone in ["tread", "flange"] {
+                    let z = g.group(zone).unwrap();
+                    z.unlink("lead_m").unwrap();
+                    z.unlink("fallback").unwrap();
+                }
+            }
+        }
+    }
+    let old = read_results(&path).unwrap();
+    let (a, b) = (&full.wheelsets[1].wheels[1], &old.wheelsets[1].wheels[1]);
+    assert!(same_bits(&a.y_over_q, &b.y_over_q));
+    assert!(same_bits(&a.q_n, &b.q_n));
+    assert!(b.zones[0].lead_m.iter().all(|v| v.is_nan()));
+    assert!(b.zones[0].fallback.iter().all(|&f| f == 0));
 }

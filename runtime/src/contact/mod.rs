@@ -8,7 +8,7 @@
 //! → `newton` → `search` (cold start) → [`WheelsetContactModel`] (profiles
 //! of one wheelset, pair solves) → [`ContactSolver`] (a step: both wheels,
 //! zones, warm start, flange rule) → [`quasi_static`] (wheelset settled
-//! under load, flangeway clearance).
+//! under load, flangeway clearance); [`nadal`]: the flange-climbing limit.
 //!
 //! "No contact" and "solve failed" are distinct: a pair solve returns
 //! `Ok(None)` or a [`Candidate`] with negative penetration when the bodies do
@@ -18,6 +18,7 @@
 mod candidate;
 mod geometry;
 mod model;
+pub mod nadal;
 mod newton;
 mod pose;
 pub mod quasi_static;

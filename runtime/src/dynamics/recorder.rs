@@ -2,10 +2,14 @@
 //! [`crate::schema::results`]): at every output time the system is
 //! evaluated at the (interpolated) state and each wheelset's track-relative
 //! position and each wheel's contacts are appended to a
-//! [`RunResults`].
+//! [`RunResults`]; each wheel's Nadal limit (its steepest flange angle and
+//! the run's friction coefficient, [`crate::contact::nadal`]) is stored with
+//! its Y/Q series.
 
 use super::system::{DynamicsError, VehicleSystem, WheelsetSnapshot};
 use super::track_motion::track_rotation;
+use crate::contact::SolveMethod;
+use crate::contact::nadal::NadalLimit;
 use crate::profile::{MAX_SEGMENTS, Zone};
 use crate::schema::results::{RunResults, WheelSample, WheelsetSample, ZoneSample};
 use crate::track::Side;
@@ -22,10 +26,21 @@ pub struct Recorder {
 impl Recorder {
     /// An empty record for the vehicle's wheelsets.
     pub fn new(system: &VehicleSystem<'_>) -> Self {
+        let mut results =
+            RunResults::with_wheelsets(system.vehicle().wheelsets.iter().map(|w| w.name.clone()));
+        let friction = system.settings().forces.friction_coefficient;
+        for (series, spec) in results
+            .wheelsets
+            .iter_mut()
+            .zip(&system.vehicle().wheelsets)
+        {
+            for side in Side::BOTH {
+                series.wheels[side_index(side)].nadal =
+                    NadalLimit::of_wheel(spec.contact.wheel(side), friction);
+            }
+        }
         Recorder {
-            results: RunResults::with_wheelsets(
-                system.vehicle().wheelsets.iter().map(|w| w.name.clone()),
-            ),
+            results,
             origin: None,
         }
     }
@@ -113,6 +128,14 @@ impl Recorder {
                         y_wheel_m: c.wheel_profile_point_m.0,
                         y_rail_m: c.rail_profile_point_m.0,
                         contact_angle_rad: c.contact_angle_rad,
+                        lead_m: c.lead_m(),
+                        fallback: (0..MAX_SEGMENTS).any(|seg| {
+                            snap.contacts.candidates[k][seg].is_some_and(|cc| {
+                                cc.zone == zone
+                                    && cc.in_contact()
+                                    && cc.method == SolveMethod::Minimisation
+                            })
+                        }),
                     };
                 }
                 wheels[k] = WheelSample {

@@ -26,6 +26,15 @@
 //!         travelled_m            1-D f64 [n], distance travelled by the wheel along its rail:
 //!                                the contact point's rail arc length since the start (m)
 //!         flange_contact         1-D u8 [n], 1 when the flange zone is in contact, else 0
+//!         y_n                    f64, Y: lateral contact force on the wheel, tread + flange,
+//!                                + towards the track centre (left wheel −n, right wheel +n)
+//!                                (N); NaN when the wheel has no contact
+//!         q_n                    f64, Q: vertical contact force on the wheel, tread + flange,
+//!                                along the track's up axis (N, the wheel load); NaN likewise
+//!         y_over_q               f64, Y/Q (1), Nadal's derailment quotient; NaN likewise
+//!                                attributes (when the wheel has a flange): flange_angle_rad
+//!                                (steepest flank), friction, nadal_limit =
+//!                                (tan γ − μ)/(1 + μ tan γ) (Nadal 1908)
 //!         tread/  flange/        the two contact zones, each with 1-D datasets [n]:
 //!             in_contact         u8, 1 when the zone is in contact, else 0
 //!             normal_n           f64, normal force on the wheel along n_c (N, ≥ 0)
@@ -45,6 +54,12 @@
 //!             contact_angle_rad  f64, angle of the contact normal from the track's up
 //!                                axis in the cross-section, + towards the flange side
 //!                                (the gauge side) on both wheels (rad)
+//!             lead_m             f64, lead of the contact point: its distance ahead of the
+//!                                axle along the wheelset's forward direction, r·sin s_w
+//!                                (m; < 0: lag)
+//!             fallback           u8, 1 when the contact came from the minimisation
+//!                                fallback (nearly conformal contact, Newton's Jacobian
+//!                                singular; `runtime::contact`), else 0
 //! ```
 //!
 //! Every dataset has the same length n as `/time_s`, a `units` attribute
@@ -54,6 +69,10 @@
 //! contact frame `n_c` from rail into wheel, `t_c` rolling direction,
 //! `l_c = n_c × t_c`; forces and moments are those acting **on the wheel**.
 //! A zone's f64 values are NaN at samples where it is not in contact.
+//!
+//! `y_n`, `q_n`, `y_over_q`, `lead_m` and `fallback` were added after the
+//! first files of version 1 were written: the reader fills them (Y, Q and
+//! Y/Q from the zones, NaN leads, no fallbacks) when a file lacks them.
 //!
 //! Datasets are contiguous and uncompressed (a 13.5 s run sampled at 1 kHz
 //! with two wheelsets is about 12 MB). Root attribute creation order is
@@ -82,6 +101,7 @@ use hdf5::{IndexType, IterationOrder};
 
 use super::columns::to_vlu;
 use super::{AtomicFile, SchemaError, attrs};
+use crate::contact::nadal::NadalLimit;
 
 /// Value of the root attribute `schema` of a results file.
 pub const RESULTS_SCHEMA: &str = "railsim-results";
@@ -140,6 +160,19 @@ pub struct WheelSeries {
     pub travelled_m: Vec<f64>,
     /// 1 when the flange zone is in contact, else 0.
     pub flange_contact: Vec<u8>,
+    /// Y: lateral contact force on the wheel summed over its zones (N), +
+    /// towards the track centre (left wheel along −n, right wheel along
+    /// +n, so that a flanging wheel's Y is positive); NaN without contact.
+    pub y_n: Vec<f64>,
+    /// Q: vertical contact force on the wheel summed over its zones, along
+    /// the track's up axis (N, the wheel load); NaN without contact.
+    pub q_n: Vec<f64>,
+    /// Y/Q (dimensionless), Nadal's derailment quotient
+    /// ([`crate::contact::nadal`]); NaN without contact.
+    pub y_over_q: Vec<f64>,
+    /// The wheel's Nadal limit (steepest flange angle, friction), when it
+    /// has a flange and the writer knew it.
+    pub nadal: Option<NadalLimit>,
     /// `[tread, flange]`.
     pub zones: [ZoneSeries; 2],
 }
@@ -180,6 +213,12 @@ pub struct ZoneSeries {
     /// Angle of the contact normal from the track's up axis in the
     /// cross-section (rad), + towards the gauge (flange) side on both wheels.
     pub contact_angle_rad: Vec<f64>,
+    /// Lead of the contact point ahead of the axle along the wheelset's
+    /// forward direction (m), r·sin s_w; negative: lag.
+    pub lead_m: Vec<f64>,
+    /// 1 when the contact came from the minimisation fallback (nearly
+    /// conformal contact), else 0.
+    pub fallback: Vec<u8>,
 }
 
 /// One sample of a contact zone, for [`ZoneSeries::push`].
@@ -199,6 +238,9 @@ pub struct ZoneSample {
     pub y_wheel_m: f64,
     pub y_rail_m: f64,
     pub contact_angle_rad: f64,
+    pub lead_m: f64,
+    /// The contact came from the minimisation fallback.
+    pub fallback: bool,
 }
 
 impl ZoneSample {
@@ -217,6 +259,8 @@ impl ZoneSample {
         y_wheel_m: f64::NAN,
         y_rail_m: f64::NAN,
         contact_angle_rad: f64::NAN,
+        lead_m: f64::NAN,
+        fallback: false,
     };
 }
 
@@ -335,9 +379,33 @@ const IN_CONTACT: Field = field(
     "1",
     "1 when this zone is in contact, else 0 (the zone's other series are NaN then)",
 );
+const FALLBACK: Field = field(
+    "fallback",
+    "1",
+    "1 when the contact came from the minimisation fallback (nearly conformal contact, Newton's Jacobian singular), else 0",
+);
+
+/// The per-wheel f64 datasets, in the order of [`WheelSeries::quotient_columns`].
+const WHEEL_F64: [Field; 3] = [
+    field(
+        "y_n",
+        "N",
+        "Y: lateral contact force on the wheel (tread + flange) in the track frame, + towards the track centre (left wheel along -n, right wheel along +n); NaN without contact",
+    ),
+    field(
+        "q_n",
+        "N",
+        "Q: vertical contact force on the wheel (tread + flange) along the track's up axis, the wheel load; NaN without contact",
+    ),
+    field(
+        "y_over_q",
+        "1",
+        "Y/Q, Nadal's derailment quotient; compare with the group's nadal_limit attribute; NaN without contact",
+    ),
+];
 
 /// The f64 datasets of a zone group, in the order of [`ZoneSeries::columns`].
-const ZONE_F64: [Field; 12] = [
+const ZONE_F64: [Field; 13] = [
     field(
         "normal_n",
         "N",
@@ -398,11 +466,16 @@ const ZONE_F64: [Field; 12] = [
         "rad",
         "angle of the contact normal from the track's up axis in the cross-section, + towards the gauge (flange) side on both wheels; NaN out of contact",
     ),
+    field(
+        "lead_m",
+        "m",
+        "lead of the contact point: distance ahead of the axle along the wheelset's forward direction, r sin(s_w); < 0: lag; NaN out of contact",
+    ),
 ];
 
 impl ZoneSeries {
     /// The f64 series in the order of `ZONE_F64`.
-    fn columns(&self) -> [&Vec<f64>; 12] {
+    fn columns(&self) -> [&Vec<f64>; 13] {
         [
             &self.normal_n,
             &self.fx_n,
@@ -416,10 +489,11 @@ impl ZoneSeries {
             &self.y_wheel_m,
             &self.y_rail_m,
             &self.contact_angle_rad,
+            &self.lead_m,
         ]
     }
 
-    fn columns_mut(&mut self) -> [&mut Vec<f64>; 12] {
+    fn columns_mut(&mut self) -> [&mut Vec<f64>; 13] {
         [
             &mut self.normal_n,
             &mut self.fx_n,
@@ -433,6 +507,7 @@ impl ZoneSeries {
             &mut self.y_wheel_m,
             &mut self.y_rail_m,
             &mut self.contact_angle_rad,
+            &mut self.lead_m,
         ]
     }
 
@@ -445,6 +520,7 @@ impl ZoneSeries {
             &ZoneSample::NO_CONTACT
         };
         self.in_contact.push(u8::from(s.in_contact));
+        self.fallback.push(u8::from(s.fallback));
         let values = [
             s.normal_n,
             s.fx_n,
@@ -458,6 +534,7 @@ impl ZoneSeries {
             s.y_wheel_m,
             s.y_rail_m,
             s.contact_angle_rad,
+            s.lead_m,
         ];
         for (col, v) in self.columns_mut().into_iter().zip(values) {
             col.push(v);
@@ -482,19 +559,66 @@ impl ZoneSeries {
             y_wheel_m: v(9),
             y_rail_m: v(10),
             contact_angle_rad: v(11),
+            lead_m: v(12),
+            fallback: self.fallback.get(i).is_some_and(|&f| f != 0),
         })
     }
 }
 
+/// Y (+ towards the track centre), Q and Y/Q of a wheel from its zones'
+/// track-frame forces (module docs); NaN when no zone is in contact.
+/// `side` is the wheel's index, 0 left, 1 right.
+pub fn wheel_y_q(side: usize, zones: &[ZoneSample; 2]) -> (f64, f64, f64) {
+    // Lateral forces are + left (+n): towards the centre is −n for the left
+    // wheel and +n for the right one.
+    let sign = if side == 0 { -1.0 } else { 1.0 };
+    let mut y = 0.0;
+    let mut q = 0.0;
+    let mut any = false;
+    for z in zones.iter().filter(|z| z.in_contact) {
+        any = true;
+        y += sign * z.lateral_force_n;
+        q += z.vertical_force_n;
+    }
+    if !any {
+        return (f64::NAN, f64::NAN, f64::NAN);
+    }
+    let ratio = if q > 0.0 { y / q } else { f64::NAN };
+    (y, q, ratio)
+}
+
 impl WheelSeries {
-    /// Append one sample; the flange-contact flag is the flange zone's
-    /// `in_contact`.
-    pub fn push(&mut self, s: &WheelSample) {
+    /// Append one sample of wheel `side` (0 left, 1 right; the sign of Y
+    /// depends on it); the flange-contact flag is the flange zone's
+    /// `in_contact`, Y, Q and Y/Q come from the zones ([`wheel_y_q`]).
+    pub fn push(&mut self, side: usize, s: &WheelSample) {
         self.travelled_m.push(s.travelled_m);
         self.flange_contact.push(u8::from(s.zones[1].in_contact));
+        let (y, q, ratio) = wheel_y_q(side, &s.zones);
+        self.y_n.push(y);
+        self.q_n.push(q);
+        self.y_over_q.push(ratio);
         for (zone, z) in self.zones.iter_mut().zip(&s.zones) {
             zone.push(z);
         }
+    }
+
+    /// Y, Q, Y/Q in the order of `WHEEL_F64`.
+    fn quotient_columns(&self) -> [&Vec<f64>; 3] {
+        [&self.y_n, &self.q_n, &self.y_over_q]
+    }
+
+    fn quotient_columns_mut(&mut self) -> [&mut Vec<f64>; 3] {
+        [&mut self.y_n, &mut self.q_n, &mut self.y_over_q]
+    }
+
+    /// Largest finite Y/Q over the samples, if any.
+    pub fn max_y_over_q(&self) -> Option<f64> {
+        self.y_over_q
+            .iter()
+            .copied()
+            .filter(|v| v.is_finite())
+            .reduce(f64::max)
     }
 }
 
@@ -540,8 +664,8 @@ impl WheelsetSeries {
         for (col, v) in self.columns_mut().into_iter().zip(values) {
             col.push(v);
         }
-        for (wheel, w) in self.wheels.iter_mut().zip(&s.wheels) {
-            wheel.push(w);
+        for (side, (wheel, w)) in self.wheels.iter_mut().zip(&s.wheels).enumerate() {
+            wheel.push(side, w);
         }
     }
 }
@@ -648,9 +772,13 @@ impl RunResults {
                     &|| format!("{g}/{}", FLANGE_CONTACT.name),
                     &wheel.flange_contact,
                 )?;
+                for (f, col) in WHEEL_F64.iter().zip(wheel.quotient_columns()) {
+                    check_len(&|| format!("{g}/{}", f.name), col.len())?;
+                }
                 for (zone, zg) in wheel.zones.iter().zip(ZONE_GROUPS) {
                     let g = format!("{g}/{zg}");
                     check_flags(&|| format!("{g}/{}", IN_CONTACT.name), &zone.in_contact)?;
+                    check_flags(&|| format!("{g}/{}", FALLBACK.name), &zone.fallback)?;
                     for (f, col) in ZONE_F64.iter().zip(zone.columns()) {
                         check_len(&|| format!("{g}/{}", f.name), col.len())?;
                     }
@@ -778,12 +906,21 @@ pub fn write_results(path: &Path, results: &RunResults) -> Result<(), SchemaErro
             let g = create_group(path, &g, wg)?;
             write_series(path, &g, &TRAVELLED, &wheel.travelled_m)?;
             write_series(path, &g, &FLANGE_CONTACT, &wheel.flange_contact)?;
+            for (f, col) in WHEEL_F64.iter().zip(wheel.quotient_columns()) {
+                write_series(path, &g, f, col)?;
+            }
+            if let Some(n) = &wheel.nadal {
+                attrs::write_f64(path, &g, "flange_angle_rad", n.flange_angle_rad)?;
+                attrs::write_f64(path, &g, "friction", n.friction)?;
+                attrs::write_f64(path, &g, "nadal_limit", n.limit)?;
+            }
             for (zone, zg) in wheel.zones.iter().zip(ZONE_GROUPS) {
                 let g = create_group(path, &g, zg)?;
                 write_series(path, &g, &IN_CONTACT, &zone.in_contact)?;
                 for (f, col) in ZONE_F64.iter().zip(zone.columns()) {
                     write_series(path, &g, f, col)?;
                 }
+                write_series(path, &g, &FALLBACK, &zone.fallback)?;
             }
         }
     }
@@ -831,6 +968,15 @@ fn read_series<T: hdf5::H5Type>(
     }
     ds.read_raw()
         .map_err(hdf5_err(path, format!("reading {what}")))
+}
+
+/// Datasets added to version 1 after its first files (module docs): read
+/// when present, filled when not.
+const ADDED_LATER: [&str; 1] = ["lead_m"];
+
+/// Whether `group` has a member `name`.
+fn has(group: &hdf5::Group, name: &str) -> bool {
+    group.link_exists(name)
 }
 
 fn open_group(path: &Path, parent: &hdf5::Group, name: &str) -> Result<hdf5::Group, SchemaError> {
@@ -938,16 +1084,62 @@ pub fn read_results(path: &Path) -> Result<RunResults, SchemaError> {
         for (f, col) in WHEELSET_F64.iter().zip(ws.columns_mut()) {
             *col = read_series(path, &g, f.name, n)?;
         }
-        for (wheel, wg) in ws.wheels.iter_mut().zip(WHEEL_GROUPS) {
+        for (side, (wheel, wg)) in ws.wheels.iter_mut().zip(WHEEL_GROUPS).enumerate() {
             let g = open_group(path, &g, wg)?;
+            let what = format!("{what}/{wg}");
             wheel.travelled_m = read_series(path, &g, TRAVELLED.name, n)?;
             wheel.flange_contact = read_series(path, &g, FLANGE_CONTACT.name, n)?;
+            let len = time_s.len();
             for (zone, zg) in wheel.zones.iter_mut().zip(ZONE_GROUPS) {
                 let g = open_group(path, &g, zg)?;
                 zone.in_contact = read_series(path, &g, IN_CONTACT.name, n)?;
                 for (f, col) in ZONE_F64.iter().zip(zone.columns_mut()) {
+                    *col = if ADDED_LATER.contains(&f.name) && !has(&g, f.name) {
+                        vec![f64::NAN; len]
+                    } else {
+                        read_series(path, &g, f.name, n)?
+                    };
+                }
+                zone.fallback = if has(&g, FALLBACK.name) {
+                    read_series(path, &g, FALLBACK.name, n)?
+                } else {
+                    vec![0; len]
+                };
+            }
+            if WHEEL_F64.iter().all(|f| has(&g, f.name)) {
+                for (f, col) in WHEEL_F64.iter().zip(wheel.quotient_columns_mut()) {
                     *col = read_series(path, &g, f.name, n)?;
                 }
+            } else {
+                // A file from before Y/Q was stored: from the zones.
+                for i in 0..len {
+                    let zones = [0, 1].map(|z| wheel.zones[z].sample(i).unwrap_or_default());
+                    let (y, q, ratio) = wheel_y_q(side, &zones);
+                    wheel.y_n.push(y);
+                    wheel.q_n.push(q);
+                    wheel.y_over_q.push(ratio);
+                }
+            }
+            let names = g
+                .attr_names()
+                .map_err(hdf5_err(path, format!("listing the attributes of {what}")))?;
+            let attr = |name: &str| -> Result<Option<f64>, SchemaError> {
+                if names.iter().any(|n| n == name) {
+                    Ok(Some(attrs::read(path, &g, &what, name)?))
+                } else {
+                    Ok(None)
+                }
+            };
+            if let (Some(flange_angle_rad), Some(friction), Some(limit)) = (
+                attr("flange_angle_rad")?,
+                attr("friction")?,
+                attr("nadal_limit")?,
+            ) {
+                wheel.nadal = Some(NadalLimit {
+                    flange_angle_rad,
+                    friction,
+                    limit,
+                });
             }
         }
         wheelsets.push(ws);
