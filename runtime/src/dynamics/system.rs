@@ -25,7 +25,8 @@ use super::imported_contact::{
 };
 use super::table_contact::table_contacts;
 use super::track_motion::{
-    TrackRelative, project_s, reference_anchor, track_relative, track_rotation, vehicle_point,
+    SpeedRamp, TrackRelative, project_s, reference_anchor, track_relative, track_rotation,
+    vehicle_point,
 };
 use super::vehicle::{End, VehicleModel};
 use crate::body::{BodyError, BodyState, Wrench, derivatives};
@@ -78,10 +79,33 @@ pub struct SystemSettings {
     /// the track-following references at t = 0.
     pub speed_m_s: f64,
     /// Constant deceleration of the references (m/s², ≥ 0; 0 = constant
-    /// speed): V(t) = max(V0 − a t, 0). Used to ramp the speed down through
-    /// the nonlinear critical speed; bodies not tied to a reference (an
-    /// unsuspended wheelset) keep their own speed.
+    /// speed): V(t) = max(V0 − a t, V_f), V_f = `final_speed_m_s` or 0 (the
+    /// references stop and stay stopped). Used to ramp the speed down
+    /// through the nonlinear critical speed, and to brake to a stop;
+    /// bodies not tied to a reference (an unsuspended wheelset) keep their
+    /// own speed (brake them with `axle_brake_torque_nm`).
     pub deceleration_m_s2: f64,
+    /// Constant acceleration of the references (m/s², ≥ 0; exclusive with
+    /// `deceleration_m_s2`): V(t) = min(V0 + a t, V_f), from rest if V0 = 0
+    /// ([`SpeedRamp`]).
+    pub acceleration_m_s2: f64,
+    /// Speed where the ramp ends and is held (m/s); `None`: 0 when braking,
+    /// unbounded when accelerating. Below 0 when braking asks for a
+    /// reversal (the references run backwards).
+    pub final_speed_m_s: Option<f64>,
+    /// Torque about every wheelset's axle (N·m), + driving forwards (the
+    /// sense of the forward rolling spin, +axle = left): a traction motor
+    /// (> 0) or a constant braking torque (< 0; it does not stop at
+    /// standstill — it would drive the wheelset backwards). Its reaction,
+    /// on a motor or brake in an unmodelled car body, is applied to no
+    /// modelled body.
+    pub axle_torque_nm: f64,
+    /// Friction brake on every wheelset's axle (N·m, ≥ 0): a torque
+    /// −T_b·Ω/max(|Ω|, Ω_ε) opposing the spin Ω (regularised Coulomb
+    /// friction, Ω_ε = v_min/r₀ with v_min the creepages' regularisation
+    /// speed, so it stops the wheelset at standstill instead of reversing
+    /// it, like the creep forces at |V| < v_min, `crate::creepage`).
+    pub axle_brake_torque_nm: f64,
     /// Track distance of the vehicle reference point at t = 0 (m).
     pub s_start_m: f64,
     /// A wheelset farther than this from the centreline is derailed (m).
@@ -98,10 +122,89 @@ impl Default for SystemSettings {
             method: ContactMethod::Online,
             speed_m_s: 10.0,
             deceleration_m_s2: 0.0,
+            acceleration_m_s2: 0.0,
+            final_speed_m_s: None,
+            axle_torque_nm: 0.0,
+            axle_brake_torque_nm: 0.0,
             s_start_m: 5.0,
             derailment_lateral_m: 0.05,
             gravity_m_s2: GRAVITY_M_S2,
         }
+    }
+}
+
+impl SystemSettings {
+    /// The references' speed against time: V0 = `speed_m_s`, rate
+    /// `acceleration_m_s2 − deceleration_m_s2`, end speed `final_speed_m_s`.
+    pub fn speed_ramp(&self) -> SpeedRamp {
+        SpeedRamp {
+            initial_m_s: self.speed_m_s,
+            rate_m_s2: self.acceleration_m_s2 - self.deceleration_m_s2,
+            final_m_s: self.final_speed_m_s,
+        }
+    }
+
+    /// Checks the speed, ramp and axle torques, naming the setting and the
+    /// rule.
+    pub fn validate_motion(&self) -> Result<(), DynamicsError> {
+        let bad = |setting, value, rule| {
+            Err(DynamicsError::Setting {
+                setting,
+                value,
+                rule,
+            })
+        };
+        let speed = self.speed_m_s;
+        if !(speed.is_finite() && speed >= 0.0) {
+            return bad("speed (m/s)", speed, "must be finite and >= 0");
+        }
+        for (setting, value) in [
+            ("deceleration (m/s²)", self.deceleration_m_s2),
+            ("acceleration (m/s²)", self.acceleration_m_s2),
+            ("axle brake torque (N·m)", self.axle_brake_torque_nm),
+        ] {
+            if !(value.is_finite() && value >= 0.0) {
+                return bad(setting, value, "must be finite and >= 0");
+            }
+        }
+        if !self.axle_torque_nm.is_finite() {
+            return bad("axle torque (N·m)", self.axle_torque_nm, "must be finite");
+        }
+        if self.acceleration_m_s2 > 0.0 && self.deceleration_m_s2 > 0.0 {
+            return bad(
+                "acceleration (m/s²)",
+                self.acceleration_m_s2,
+                "give an acceleration or a deceleration, not both",
+            );
+        }
+        if let Some(vf) = self.final_speed_m_s {
+            let rate = self.acceleration_m_s2 - self.deceleration_m_s2;
+            if !vf.is_finite() {
+                return bad("final speed (m/s)", vf, "must be finite");
+            }
+            if rate == 0.0 {
+                return bad(
+                    "final speed (m/s)",
+                    vf,
+                    "needs an acceleration or a deceleration",
+                );
+            }
+            if rate > 0.0 && vf < speed {
+                return bad(
+                    "final speed (m/s)",
+                    vf,
+                    "must be >= the initial speed when accelerating",
+                );
+            }
+            if rate < 0.0 && vf > speed {
+                return bad(
+                    "final speed (m/s)",
+                    vf,
+                    "must be <= the initial speed when braking",
+                );
+            }
+        }
+        Ok(())
     }
 }
 
@@ -181,6 +284,9 @@ pub struct WheelsetSnapshot {
     pub forces: [[Option<ContactForce>; MAX_SEGMENTS]; 2],
     /// Spin about the axle (rad/s).
     pub spin_rad_s: f64,
+    /// Torque applied about the axle (N·m), + driving forwards: the axle
+    /// torque plus the friction brake's ([`SystemSettings`]).
+    pub axle_torque_nm: f64,
 }
 
 impl WheelsetSnapshot {
@@ -191,6 +297,84 @@ impl WheelsetSnapshot {
             .iter()
             .flatten()
             .any(|c| c.zone == Zone::Flange && c.in_contact())
+    }
+}
+
+/// Energy bookkeeping of a run (J): the mechanical energy E
+/// ([`VehicleSystem::mechanical_energy_j`]) at the first and the last
+/// accepted state, and the work of every non-conservative force between
+/// them, integrated over the accepted states by the trapezoidal rule
+/// (second order in the step). Balance (work–energy theorem):
+///
+/// E − E0 = W_torque + W_references + W_turning − D_creep − D_contact − D_dampers,
+///
+/// with the powers at a state (W = watts, all ≥ 0 for the D's):
+/// - axle torques: Σ T·Ω (T about the axle, Ω the spin about it);
+/// - references (prescribed motion): −Σ F·v, F the elements' forces on
+///   them at their attachment points, v those points' velocities (what
+///   drives a reference does the opposite work on the elements);
+/// - creep: −Σ (Fx s_x + Fy s_y + Mz s_φ) over the contacts, the forces
+///   on the wheel times the slip velocities of the wheel's material point
+///   against the (fixed) rail (`crate::creepage`), ≥ 0 for every creep law
+///   (they oppose the slip);
+/// - contact damping: Σ N_d δ̇ (the hysteresis part of paper eq. 22, with
+///   the sign of δ̇);
+/// - dampers: Σ Δ̇ᵀ C Δ̇ of the elements;
+/// - element turning: Σ F_b·(ω_a × (p_b − p_a)), the work of the
+///   elements' forces beyond their potential ½ΔᵀKΔ − f₀·Δ, which is exact
+///   only while body a does not rotate (`crate::element`): the forces are
+///   along a's turning axes (f₀ the preload; −f₀·Δ the preload's energy).
+///
+/// The Hertz elastic energy in E is 0.4 K δ^2.5 with the stiffness K of
+/// the current contact geometry; K changes as the contact point moves
+/// across the profiles, which leaves a small residual.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct EnergyLedger {
+    /// E at the first accepted state (J).
+    pub initial_energy_j: f64,
+    /// E at the last accepted state (J).
+    pub energy_j: f64,
+    pub axle_torque_work_j: f64,
+    pub reference_work_j: f64,
+    pub creep_dissipation_j: f64,
+    pub contact_damping_dissipation_j: f64,
+    pub damper_dissipation_j: f64,
+    pub element_turning_work_j: f64,
+    /// Time (s) and powers (W) at the last accepted state: torque,
+    /// references, creep, contact damping, dampers, element turning.
+    last: Option<(f64, [f64; 6])>,
+}
+
+impl EnergyLedger {
+    /// The balance's residual (J): E − E0 − (W_torque + W_references +
+    /// W_turning − D_creep − D_contact − D_dampers); zero but for the
+    /// integration and quadrature errors (struct docs).
+    pub fn residual_j(&self) -> f64 {
+        self.energy_j
+            - self.initial_energy_j
+            - (self.axle_torque_work_j + self.reference_work_j + self.element_turning_work_j
+                - self.creep_dissipation_j
+                - self.contact_damping_dissipation_j
+                - self.damper_dissipation_j)
+    }
+
+    /// Adds the powers `p` (W; order of `last`) at the accepted time `t_s`
+    /// (trapezoidal rule) and the energy there.
+    fn add(&mut self, t_s: f64, p: [f64; 6], energy_j: f64) {
+        match self.last {
+            None => self.initial_energy_j = energy_j,
+            Some((t0, p0)) => {
+                let w = |k: usize| 0.5 * (p0[k] + p[k]) * (t_s - t0);
+                self.axle_torque_work_j += w(0);
+                self.reference_work_j += w(1);
+                self.creep_dissipation_j += w(2);
+                self.contact_damping_dissipation_j += w(3);
+                self.damper_dissipation_j += w(4);
+                self.element_turning_work_j += w(5);
+            }
+        }
+        self.energy_j = energy_j;
+        self.last = Some((t_s, p));
     }
 }
 
@@ -235,7 +419,25 @@ pub struct VehicleSystem<'a> {
     progress: Option<Box<dyn FnMut(f64) + 'a>>,
     /// Stop when the vehicle reference passes this track distance (m).
     s_stop_m: f64,
+    /// The references' speed against time.
+    ramp: SpeedRamp,
+    /// Energy bookkeeping, when enabled ([`Self::enable_energy_ledger`]).
+    ledger: Option<EnergyLedger>,
+    /// The run was stopped because a wheelset or the vehicle reference
+    /// came within [`TRACK_END_MARGIN_M`] of the end of the tables (or
+    /// [`TRACK_START_MARGIN_M`] of their start).
+    track_end_reached: bool,
 }
+
+/// A run stops when the vehicle reference point or a wheelset comes this
+/// close to an end of the track tables (m): a contact point may lead or lag
+/// its axle, and the reference anchors look ±[`REFERENCE_DS_M`] along.
+pub const TRACK_END_MARGIN_M: f64 = 2.0;
+
+/// The same at the start of the tables (m), reached only by running
+/// backwards: smaller, so that a run may start close to the start (a
+/// contact point lags its axle by a few centimetres at most).
+pub const TRACK_START_MARGIN_M: f64 = 0.5;
 
 impl<'a> VehicleSystem<'a> {
     /// Builds the system and its initial state y0 (module docs; the
@@ -265,21 +467,8 @@ impl<'a> VehicleSystem<'a> {
                     reason,
                 })?;
         }
+        settings.validate_motion()?;
         let speed = settings.speed_m_s;
-        if !(speed.is_finite() && speed >= 0.0) {
-            return Err(DynamicsError::Setting {
-                setting: "speed (m/s)",
-                value: speed,
-                rule: "must be finite and >= 0",
-            });
-        }
-        if !(settings.deceleration_m_s2.is_finite() && settings.deceleration_m_s2 >= 0.0) {
-            return Err(DynamicsError::Setting {
-                setting: "deceleration (m/s²)",
-                value: settings.deceleration_m_s2,
-                rule: "must be finite and >= 0",
-            });
-        }
         for (name, v) in [
             ("initial lateral shift (m)", initial.lateral_m),
             ("initial yaw (rad)", initial.yaw_rad),
@@ -362,21 +551,34 @@ impl<'a> VehicleSystem<'a> {
             let nominal = settle_at(w.y_m, 0.0, &mut solver)
                 .map_err(|e| assembly_err(format!("settling at assembly: {e}")))?;
             nominal_anchors.push(Anchor::fixed(nominal.pose.position, nominal.pose.frame));
+            // Free rolling of the centred wheelset: Ω = V / r, r the mean
+            // rolling radius of its two tread contacts when centred (an
+            // imported table's r at y = 0 need not be the nominal radius:
+            // 0.424883 m against 0.425 m for the Cooperrider car, which at
+            // V/r₀ would start — and linearise — with a longitudinal creepage
+            // of 2.8e-4 on every wheel). The nominal radius without contact.
+            let rolling_radius_m = match (
+                nominal.contacts.candidates[0][0].filter(|c| c.in_contact()),
+                nominal.contacts.candidates[1][0].filter(|c| c.in_contact()),
+            ) {
+                (Some(l), Some(r)) => 0.5 * (l.rolling_radius_m + r.rolling_radius_m),
+                _ => w.nominal_radius_m,
+            };
             solver.reset();
             // Time stepping: consecutive poses are micrometres apart.
             solver.options.reuse_clear_pieces = true;
             let st = settle_at(w.y_m + initial.lateral_m, initial.yaw_rad, &mut solver)
                 .map_err(|e| assembly_err(format!("settling at the initial conditions: {e}")))?;
             // Rigid-body state: axle frame (no spin angle yet), moving with
-            // the track frame at the set speed, spinning at V/r₀.
+            // the track frame at the set speed, spinning at V/r.
             let frame = st.pose.frame;
             let orientation =
                 UnitQuaternion::from_matrix_eps(&frame, 1e-12, 100, UnitQuaternion::identity());
             let track_motion =
                 reference_anchor(c, s0, &Vector3::new(w.x_m, 0.0, 0.0), speed, REFERENCE_DS_M)
                     .map_err(track_err(&w.name))?;
-            let omega_global = frame.column(1) * (speed / w.nominal_radius_m)
-                + track_motion.angular_velocity_rad_s;
+            let omega_global =
+                frame.column(1) * (speed / rolling_radius_m) + track_motion.angular_velocity_rad_s;
             initial_states.push(BodyState {
                 position_m: st.pose.position,
                 orientation,
@@ -484,7 +686,10 @@ impl<'a> VehicleSystem<'a> {
             stop: None,
             progress: None,
             // Leave 2 m of table ahead of the leading wheelset.
-            s_stop_m: s_end - 2.0 - max_x.max(0.0),
+            s_stop_m: s_end - TRACK_END_MARGIN_M - max_x.max(0.0),
+            ramp: settings.speed_ramp(),
+            ledger: None,
+            track_end_reached: false,
             settings,
         };
         Ok((system, y0))
@@ -538,22 +743,88 @@ impl<'a> VehicleSystem<'a> {
         &self.states
     }
 
-    /// Speed of the references at time `t_s` (m/s): V0 − a t, not below 0.
+    /// Speed of the references at time `t_s` (m/s): the ramp of
+    /// [`SystemSettings::speed_ramp`] (constant, braking to a stop or to
+    /// a final speed, accelerating).
     pub fn speed_at_m_s(&self, t_s: f64) -> f64 {
-        (self.settings.speed_m_s - self.settings.deceleration_m_s2 * t_s).max(0.0)
+        self.ramp.speed_m_s(t_s)
     }
 
     /// Track distance of the vehicle reference point at time `t_s` (m): the
     /// integral of [`Self::speed_at_m_s`].
     pub fn s_vehicle_m(&self, t_s: f64) -> f64 {
-        let (v0, a) = (self.settings.speed_m_s, self.settings.deceleration_m_s2);
-        let t = if a > 0.0 { t_s.min(v0 / a) } else { t_s };
-        self.settings.s_start_m + v0 * t - 0.5 * a * t * t
+        self.settings.s_start_m + self.ramp.distance_m(t_s)
     }
 
     /// Track distance beyond which the run stops (m).
     pub fn s_stop_m(&self) -> f64 {
         self.s_stop_m
+    }
+
+    /// Whether the run was stopped at an end of the track tables (the
+    /// vehicle reference or a wheelset within [`TRACK_END_MARGIN_M`] of
+    /// the end or [`TRACK_START_MARGIN_M`] of the start).
+    pub fn track_end_reached(&self) -> bool {
+        self.track_end_reached
+    }
+
+    /// Keeps an [`EnergyLedger`] from the next accepted state on (costs one
+    /// energy and power evaluation per accepted state).
+    pub fn enable_energy_ledger(&mut self) {
+        self.ledger = Some(EnergyLedger::default());
+    }
+
+    /// The energy bookkeeping so far, if enabled.
+    pub fn energy_ledger(&self) -> Option<&EnergyLedger> {
+        self.ledger.as_ref()
+    }
+
+    /// The non-conservative powers (W) at the last evaluated state, in the
+    /// order of [`EnergyLedger`]: axle torques, references, creep
+    /// dissipation, contact damping dissipation, damper dissipation, the
+    /// elements' work beyond their potential.
+    fn powers_w(&self) -> [f64; 6] {
+        let mut p = [0.0; 6];
+        for snap in &self.snapshots {
+            p[0] += snap.axle_torque_nm * snap.spin_rad_s;
+            for f in snap.forces.iter().flatten().flatten() {
+                let (c, slip) = (&f.tangential.creep, &f.tangential.creepages.slip);
+                p[2] -= c.fx_n * slip.longitudinal_m_s
+                    + c.fy_n * slip.lateral_m_s
+                    + c.mz_nm * slip.spin_rad_s;
+                p[3] += f.normal.damping_n * slip.penetration_rate_m_s;
+            }
+        }
+        let vehicle = self.vehicle;
+        let n_refs_from = vehicle.wheelsets.len() + vehicle.bodies.len();
+        let ground = Anchor::fixed(Vector3::zeros(), Matrix3::identity());
+        for (el, spec) in self.elements.iter().zip(&vehicle.elements) {
+            let ia = self.anchor_index(spec.a);
+            let ib = self.anchor_index(spec.b);
+            let a = ia.map_or(ground, |k| self.anchors[k]);
+            let b = ib.map_or(ground, |k| self.anchors[k]);
+            let f = el.evaluate(&a, &b);
+            // Velocity of a point p of an anchor: v + ω × (p − origin).
+            let point_velocity = |an: &Anchor, point: &Vector3<f64>| {
+                an.velocity_m_s + an.angular_velocity_rad_s.cross(&(point - an.position_m))
+            };
+            // The reference's driver does on the element the work the
+            // element does on the reference, negated.
+            if ia.is_some_and(|k| k >= n_refs_from) {
+                p[1] -= f.force_on_a_n().dot(&point_velocity(&a, &f.point_a_m));
+            }
+            if ib.is_some_and(|k| k >= n_refs_from) {
+                p[1] -= f.force_on_b_n.dot(&point_velocity(&b, &f.point_b_m));
+            }
+            p[4] += el.dissipated_power_w(&f.rate_m_s);
+            // The elements' directions turn with a: their forces on the
+            // bodies do F_b·(ω_a × (p_b − p_a)) more work than their
+            // potential and dampers account for.
+            p[5] += f
+                .force_on_b_n
+                .dot(&a.angular_velocity_rad_s.cross(&(f.point_b_m - f.point_a_m)));
+        }
+        p
     }
 
     fn anchor_index(&self, end: End) -> Option<usize> {
@@ -681,6 +952,14 @@ impl<'a> VehicleSystem<'a> {
                     }
                 }
             }
+            // Axle torque: drive (constant) and friction brake (module docs
+            // of `SystemSettings::axle_brake_torque_nm`), about the axle.
+            let brake_eps_rad_s =
+                self.settings.forces.creepage.min_rolling_speed_m_s / w.nominal_radius_m;
+            snap.axle_torque_nm = self.settings.axle_torque_nm
+                - self.settings.axle_brake_torque_nm * snap.spin_rad_s
+                    / snap.spin_rad_s.abs().max(brake_eps_rad_s);
+            wrench.add_moment(&(axle * snap.axle_torque_nm));
             // Elements attach to the non-spinning axle frame.
             self.anchors[i] = Anchor {
                 position_m: st.position_m,
@@ -819,7 +1098,29 @@ impl OdeSystem for VehicleSystem<'_> {
             .stop
             .as_ref()
             .is_some_and(|f| f.load(Ordering::Relaxed));
-        let end_of_track = self.s_vehicle_m(t) > self.s_stop_m;
+        if self.ledger.is_some() {
+            let (p, e) = (self.powers_w(), self.mechanical_energy_j());
+            if let Some(l) = &mut self.ledger {
+                l.add(t, p, e);
+            }
+        }
+        // Forwards: the vehicle reference or a wheelset near the far end;
+        // backwards (a reversal, or a wheelset driven back): near the start.
+        let (lo, hi) = self.track.centerline.range_m();
+        let s_vehicle = self.s_vehicle_m(t);
+        let min_x = self
+            .vehicle
+            .wheelsets
+            .iter()
+            .map(|w| w.x_m)
+            .fold(0.0_f64, f64::min);
+        let end_of_track = s_vehicle > self.s_stop_m
+            || s_vehicle + min_x < lo + TRACK_START_MARGIN_M
+            || self
+                .s_guess
+                .iter()
+                .any(|&s| s > hi - TRACK_END_MARGIN_M || s < lo + TRACK_START_MARGIN_M);
+        self.track_end_reached |= end_of_track;
         Ok(if stop_requested || end_of_track {
             Control::Stop
         } else {

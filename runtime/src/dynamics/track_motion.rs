@@ -144,6 +144,99 @@ pub fn reference_anchor(
     })
 }
 
+/// Prescribed speed of the track-following references against time (the
+/// vehicle reference point's motion along the centreline): a constant
+/// acceleration a from V0 until the speed reaches V_f, then V_f held,
+///
+/// V(t) = V0 + a·min(t, t_f),  t_f = (V_f − V0)/a  (a ≠ 0),
+/// s(t) − s0 = ∫₀ᵗ V dτ = V0·t_r + a·t_r²/2 + V_f·(t − t_r),  t_r = min(t, t_f)
+///
+/// (uniformly accelerated motion; V in m/s along the track tangent `t`,
+/// positive forwards, t in s). Braking (a < 0) ends at V_f = 0 unless a
+/// final speed is given: the references stop and stay stopped; a negative
+/// V_f asks for a reversal (running backwards; see
+/// [`crate::creepage`] on what that means for the creepages).
+/// Accelerating (a > 0) goes on without bound unless V_f is given.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpeedRamp {
+    /// V0 (m/s), at t = 0.
+    pub initial_m_s: f64,
+    /// a (m/s²): > 0 accelerates, < 0 brakes, 0 keeps V0.
+    pub rate_m_s2: f64,
+    /// V_f (m/s), where the ramp ends; `None`: 0 when braking, none when
+    /// accelerating.
+    pub final_m_s: Option<f64>,
+}
+
+impl SpeedRamp {
+    /// A constant speed V0 (m/s).
+    pub fn constant(speed_m_s: f64) -> Self {
+        SpeedRamp {
+            initial_m_s: speed_m_s,
+            rate_m_s2: 0.0,
+            final_m_s: None,
+        }
+    }
+
+    /// The speed where the ramp ends (m/s): V_f, 0 when braking without
+    /// one, `None` for an unbounded acceleration or a constant speed.
+    pub fn end_speed_m_s(&self) -> Option<f64> {
+        if self.rate_m_s2 < 0.0 {
+            Some(self.final_m_s.unwrap_or(0.0))
+        } else if self.rate_m_s2 > 0.0 {
+            self.final_m_s
+        } else {
+            None
+        }
+    }
+
+    /// t_f (s), when the ramp reaches its end speed; `None` if it never
+    /// ends (constant speed, unbounded acceleration). A ramp whose end
+    /// speed lies behind V0 (a check of the caller) ends at 0.
+    pub fn end_time_s(&self) -> Option<f64> {
+        self.end_speed_m_s()
+            .map(|vf| ((vf - self.initial_m_s) / self.rate_m_s2).max(0.0))
+    }
+
+    /// V(t) (m/s), struct docs.
+    pub fn speed_m_s(&self, t_s: f64) -> f64 {
+        let t_r = self.end_time_s().map_or(t_s, |tf| t_s.min(tf));
+        self.initial_m_s + self.rate_m_s2 * t_r
+    }
+
+    /// s(t) − s0 (m), the distance covered since t = 0, struct docs.
+    pub fn distance_m(&self, t_s: f64) -> f64 {
+        let t_r = self.end_time_s().map_or(t_s, |tf| t_s.min(tf));
+        let ramp = self.initial_m_s * t_r + 0.5 * self.rate_m_s2 * t_r * t_r;
+        ramp + self.speed_m_s(t_r) * (t_s - t_r)
+    }
+
+    /// The first time (s) at which the distance covered reaches `d_m` (> 0),
+    /// or `None` if it never does (the references stop, or reverse, first).
+    pub fn time_to_cover_s(&self, d_m: f64) -> Option<f64> {
+        let (v0, a) = (self.initial_m_s, self.rate_m_s2);
+        // On the ramp: v0 t + a t²/2 = d, the smallest root t ≥ 0, written
+        // as 2d / (v0 + √(v0² + 2 a d)) (no cancellation as a → 0).
+        let disc = v0 * v0 + 2.0 * a * d_m;
+        let on_ramp = if disc >= 0.0 && v0 + disc.sqrt() > 0.0 {
+            Some(2.0 * d_m / (v0 + disc.sqrt()))
+        } else {
+            None
+        };
+        match self.end_time_s() {
+            None => on_ramp,
+            Some(tf) => match on_ramp {
+                Some(t) if t <= tf => Some(t),
+                _ => {
+                    // After the ramp, at the held speed V_f.
+                    let (s_f, v_f) = (self.distance_m(tf), self.speed_m_s(tf));
+                    (v_f > 0.0).then(|| tf + (d_m - s_f) / v_f)
+                }
+            },
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -166,6 +259,55 @@ mod tests {
         assert!(r.roll_rad.abs() < 1e-12);
         assert!((r.forward_speed_m_s - 20.0).abs() < 1e-12);
         assert!(project_s(c, &(p + Vector3::new(500.0, 0.0, 0.0)), 40.0).is_err());
+    }
+
+    #[test]
+    fn speed_ramps_start_stop_hold_and_reverse() {
+        // Constant speed.
+        let c = SpeedRamp::constant(12.0);
+        assert_eq!((c.speed_m_s(3.0), c.distance_m(3.0)), (12.0, 36.0));
+        assert_eq!(c.end_time_s(), None);
+        assert_eq!(c.time_to_cover_s(60.0), Some(5.0));
+        // From rest, unbounded: s = a t²/2.
+        let up = SpeedRamp {
+            initial_m_s: 0.0,
+            rate_m_s2: 2.0,
+            final_m_s: None,
+        };
+        assert_eq!(up.speed_m_s(1.5), 3.0);
+        assert!((up.distance_m(3.0) - 9.0).abs() < 1e-12);
+        assert!((up.time_to_cover_s(9.0).unwrap() - 3.0).abs() < 1e-12);
+        // From rest to 4 m/s (reached at 2 s after 4 m), then held.
+        let held = SpeedRamp {
+            final_m_s: Some(4.0),
+            ..up
+        };
+        assert_eq!(held.end_time_s(), Some(2.0));
+        assert_eq!(held.speed_m_s(10.0), 4.0);
+        assert!((held.distance_m(3.0) - 8.0).abs() < 1e-12);
+        assert!((held.time_to_cover_s(8.0).unwrap() - 3.0).abs() < 1e-12);
+        // Braking from 10 m/s at 2 m/s²: stops at 5 s after 25 m, stays.
+        let brake = SpeedRamp {
+            initial_m_s: 10.0,
+            rate_m_s2: -2.0,
+            final_m_s: None,
+        };
+        assert_eq!(brake.end_time_s(), Some(5.0));
+        assert_eq!(brake.speed_m_s(7.0), 0.0);
+        assert!((brake.distance_m(7.0) - 25.0).abs() < 1e-12);
+        assert!((brake.time_to_cover_s(16.0).unwrap() - 2.0).abs() < 1e-12);
+        assert_eq!(brake.time_to_cover_s(26.0), None);
+        // Reversal asked: through zero at 5 s, −4 m/s from 7 s on.
+        let back = SpeedRamp {
+            final_m_s: Some(-4.0),
+            ..brake
+        };
+        assert_eq!(back.end_time_s(), Some(7.0));
+        assert_eq!(back.speed_m_s(5.0), 0.0);
+        assert_eq!(back.speed_m_s(9.0), -4.0);
+        assert!((back.distance_m(7.0) - 21.0).abs() < 1e-12);
+        assert!((back.distance_m(9.0) - 13.0).abs() < 1e-12);
+        assert_eq!(back.time_to_cover_s(26.0), None);
     }
 
     #[test]
