@@ -163,6 +163,10 @@ pub fn bifurcation(
             distance + scene.scene.initial.s_m + 100.0
         ),
     ];
+    // The ramp's length is a distance: a scene's duration gives way to it.
+    if scene.scene.run.duration_s.is_some() {
+        extra.push("run.duration_s=".into());
+    }
     let t = &scene.scene.track;
     for (key, set) in [
         ("centerline", t.centerline.is_some()),

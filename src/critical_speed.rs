@@ -455,6 +455,10 @@ pub fn ramp(
         format!("run.distance_m={distance}"),
         format!("track.straight_m={length}"),
     ];
+    // The ramp's length is a distance: a scene's duration gives way to it.
+    if scene.scene.run.duration_s.is_some() {
+        extra.push("run.duration_s=".into());
+    }
     for key in ["centerline", "tables", "cant", "irregularities"] {
         if toml::Table::try_from(&scene.scene)?
             .get("track")

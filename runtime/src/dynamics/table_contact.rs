@@ -10,6 +10,14 @@
 //! Only the table's zero-yaw rows are used: the lead of a yawed wheelset's
 //! flange contact is that of the unyawed one (document the limit when using
 //! the table with large yaw).
+//!
+//! On an irregular track each wheel's row is read at the wheelset's shift
+//! from that wheel's own rail ([`rail_offset_m`]: the rail's lateral
+//! irregularity, so alignment and gauge both enter), not from the
+//! centreline; the cross level enters through the evaluation at the actual
+//! pose. Reading the two wheels at different shifts is first-order (the
+//! table's rows hold the roll settled for equal shifts); the online contact
+//! is the reference.
 
 use super::track_motion::TrackRelative;
 use crate::contact::{
@@ -32,6 +40,7 @@ pub fn table_contacts(
 ) -> Result<WheelsetContacts, ContactError> {
     let mut out = WheelsetContacts::default();
     for (k, side) in Side::BOTH.into_iter().enumerate() {
+        let lateral_m = relative.lateral_m - rail_offset_m(track, side, pose.s_track_m)?;
         let sigma = match side {
             Side::Left => -1.0,
             Side::Right => 1.0,
@@ -41,8 +50,8 @@ pub fn table_contacts(
         let l_rail = track.centerline.rail_l(side, pose.s_track_m)?;
         for (z, zone) in [Zone::Tread, Zone::Flange].into_iter().enumerate() {
             let entry = table
-                .zone_at(relative.lateral_m, k, z)
-                .map_err(|e| table_error(e, relative.lateral_m))?;
+                .zone_at(lateral_m, k, z)
+                .map_err(|e| table_error(e, lateral_m))?;
             let Some(e) = entry else { continue };
             let (u_wheel, _) = wheel.from_file_m(e.y_wheel_m, e.z_wheel_m);
             let (u_rail, _) = rail.from_file_m(e.y_rail_m, e.z_rail_m);
@@ -63,6 +72,22 @@ pub fn table_contacts(
         }
     }
     Ok(out)
+}
+
+/// Lateral offset (m, + left) of the `side` rail's profile origin from its
+/// nominal place at ± half the rail spacing from the centreline, along the
+/// track's lateral vector at track distance `s_m`: that rail's lateral
+/// irregularity (alignment ± half the gauge deviation; zero on a track
+/// without irregularities).
+pub fn rail_offset_m(track: &TrackTables, side: Side, s_m: f64) -> Result<f64, TrackError> {
+    let c = track.centerline.at(s_m)?;
+    let l = track.centerline.rail_l(side, s_m)?;
+    let p = track.rail(side).at(l)?.position;
+    let nominal_m = match side {
+        Side::Left => 0.5 * track.meta.rail_spacing_m,
+        Side::Right => -0.5 * track.meta.rail_spacing_m,
+    };
+    Ok((p - c.position).dot(&c.frame.n) - nominal_m)
 }
 
 /// A table look-up outside the table's lateral range is reported as a
