@@ -23,6 +23,7 @@ use runtime::contact_force::ContactForceSettings;
 use runtime::contact_table::ContactTable;
 use runtime::creepage::CreepageOptions;
 use runtime::dynamics::imported_contact::ImportedContactMethod;
+use runtime::dynamics::system::EnergyLedger;
 use runtime::dynamics::{
     BodySpec, ContactMethod, ElementSpec, End, InitialConditions, Recorder, ReferenceSpec,
     SystemSettings, VehicleModel, VehicleSystem, WheelsetSpec,
@@ -78,6 +79,44 @@ pub struct WheelsetSummary {
     pub flange_contact_events: u64,
 }
 
+/// The energy bookkeeping of a run (J;
+/// `runtime::dynamics::system::EnergyLedger`): E − E0 = axle torque work +
+/// reference work + element turning work − creep, contact damping and
+/// damper dissipation, up to `residual_j`.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct EnergySummary {
+    /// Mechanical energy (kinetic, gravity, springs, Hertz) at the start and
+    /// the end (J).
+    pub initial_j: f64,
+    pub final_j: f64,
+    pub axle_torque_work_j: f64,
+    pub reference_work_j: f64,
+    pub creep_dissipation_j: f64,
+    pub contact_damping_dissipation_j: f64,
+    pub damper_dissipation_j: f64,
+    /// Work of the spring–dampers beyond their potential: their directions
+    /// turn with their first body (J).
+    pub element_turning_work_j: f64,
+    /// What the balance leaves unexplained (J).
+    pub residual_j: f64,
+}
+
+impl From<&EnergyLedger> for EnergySummary {
+    fn from(l: &EnergyLedger) -> Self {
+        EnergySummary {
+            initial_j: l.initial_energy_j,
+            final_j: l.energy_j,
+            axle_torque_work_j: l.axle_torque_work_j,
+            reference_work_j: l.reference_work_j,
+            creep_dissipation_j: l.creep_dissipation_j,
+            contact_damping_dissipation_j: l.contact_damping_dissipation_j,
+            damper_dissipation_j: l.damper_dissipation_j,
+            element_turning_work_j: l.element_turning_work_j,
+            residual_j: l.residual_j(),
+        }
+    }
+}
+
 /// The `--json` summary of a run.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct RunSummary {
@@ -109,6 +148,8 @@ pub struct RunSummary {
     /// Accepted states with a flange in contact, summed over the wheels.
     pub flange_contact_states: u64,
     pub wheelsets: Vec<WheelsetSummary>,
+    /// Energy bookkeeping between the first and the last accepted state.
+    pub energy: Option<EnergySummary>,
     /// Why the run ended before its end time: "interrupted" (Ctrl-C),
     /// "end of track"; `None` when it completed.
     pub stopped: Option<String>,
@@ -156,6 +197,7 @@ pub fn run_scene(
     if let Some(flag) = stop.clone() {
         system.set_stop_flag(flag);
     }
+    system.enable_energy_ledger();
     let total_s = scene.duration_s();
     let setup_time_s = setup_start.elapsed().as_secs_f64();
     let start = Instant::now();
@@ -199,9 +241,8 @@ pub fn run_scene(
                 a.clear_skipped += s.stats.clear_skipped;
                 a
             });
-    let s_stop = system.s_stop_m();
-    let simulated_end = recorder.results.time_s.last().copied().unwrap_or(0.0);
-    let s_end = system.s_vehicle_m(simulated_end);
+    let track_end_reached = system.track_end_reached();
+    let energy = system.energy_ledger().map(EnergySummary::from);
     drop(system);
     let (stats, error) = match outcome {
         Ok(s) => (Some(s), None),
@@ -215,7 +256,7 @@ pub fn run_scene(
                 .is_some_and(|f| f.load(std::sync::atomic::Ordering::Relaxed))
             {
                 Some("interrupted".to_string())
-            } else if s_end > s_stop - 1e-9 {
+            } else if track_end_reached {
                 Some("end of track".to_string())
             } else {
                 Some("stopped".to_string())
@@ -286,6 +327,7 @@ pub fn run_scene(
         flange_searches_skipped: stats_solvers.flange_skipped + stats_solvers.clear_skipped,
         flange_contact_states: counters.flange_contact_states,
         wheelsets: wheelset_summaries(&results),
+        energy,
         stopped,
         error: error.as_ref().map(|e| format!("{e:#}")),
         track: source,
@@ -353,6 +395,10 @@ pub fn system_settings(
         method,
         speed_m_s: scene.initial.speed_m_s,
         deceleration_m_s2: scene.initial.deceleration_m_s2,
+        acceleration_m_s2: scene.initial.acceleration_m_s2,
+        final_speed_m_s: scene.initial.final_speed_m_s,
+        axle_torque_nm: scene.run.axle_torque_nm,
+        axle_brake_torque_nm: scene.run.axle_brake_torque_nm,
         s_start_m: scene.initial.s_m,
         ..SystemSettings::default()
     };
@@ -443,6 +489,20 @@ impl RunSummary {
                 w.flange_contact_left_s,
                 w.flange_contact_right_s,
                 w.flange_contact_events
+            );
+        }
+        if let Some(e) = &self.energy {
+            s += &format!(
+                "  energy: {:.1} J → {:.1} J; axle torque work {:.1} J, reference work {:.1} J, element turning {:.3} J, creep dissipation {:.1} J, contact damping {:.1} J, dampers {:.1} J; residual {:.3} J\n",
+                e.initial_j,
+                e.final_j,
+                e.axle_torque_work_j,
+                e.reference_work_j,
+                e.element_turning_work_j,
+                e.creep_dissipation_j,
+                e.contact_damping_dissipation_j,
+                e.damper_dissipation_j,
+                e.residual_j
             );
         }
         if let Some(st) = &self.stopped {

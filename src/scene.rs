@@ -36,6 +36,9 @@
 //! s_m = 5.0                 # track distance of the vehicle reference point
 //! lateral_m = -0.002        # every wheelset, + left
 //! yaw_rad = 0.0
+//! # deceleration_m_s2 = 0.5 # or acceleration_m_s2 (from rest with speed_m_s = 0):
+//! # final_speed_m_s = 0.0   # a speed ramp of the track-following references, held at
+//! #                         # final_speed_m_s (braking: 0 by default; < 0 reverses)
 //!
 //! [run]
 //! distance_m = 280.0        # or duration_s
@@ -44,12 +47,15 @@
 //! rtol = 1e-6               # dopri5
 //! atol = 1e-9
 //! output_interval_s = 0.01
+//! # axle_torque_nm = 2000.0     # every axle: + traction, − a constant braking torque
+//! # axle_brake_torque_nm = 500.0  # every axle: a friction brake that holds at standstill
 //! ```
 
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail, ensure};
 use runtime::creep::{CreepLaw, FastsimParams, PolachParams};
+use runtime::dynamics::track_motion::SpeedRamp;
 use runtime::integrator::{Dopri5, Method, Rk4};
 use serde::{Deserialize, Serialize};
 
@@ -204,9 +210,19 @@ pub struct InitialSection {
     #[serde(default)]
     pub yaw_rad: f64,
     /// Deceleration of the track-following references (m/s², ≥ 0): a speed
-    /// ramp V(t) = V0 − a t (nonlinear critical speed).
+    /// ramp V(t) = V0 − a t (nonlinear critical speed) down to
+    /// `final_speed_m_s` (default 0: the references stop and stay stopped).
     #[serde(default)]
     pub deceleration_m_s2: f64,
+    /// Acceleration of the references (m/s², ≥ 0; not with a deceleration):
+    /// V(t) = V0 + a t up to `final_speed_m_s` (default: no limit); V0 may
+    /// be 0 (a start from rest).
+    #[serde(default)]
+    pub acceleration_m_s2: f64,
+    /// Speed where the ramp ends and is held (m/s); below 0 with a
+    /// deceleration, a reversal (`runtime::dynamics::track_motion::SpeedRamp`).
+    #[serde(default)]
+    pub final_speed_m_s: Option<f64>,
 }
 
 fn default_s() -> f64 {
@@ -238,6 +254,14 @@ pub struct RunSection {
     /// Output sampling interval (s).
     #[serde(default = "default_output")]
     pub output_interval_s: f64,
+    /// Torque about every wheelset's axle (N·m), + driving forwards
+    /// (traction), − braking; constant, so it does not stop at standstill.
+    #[serde(default)]
+    pub axle_torque_nm: f64,
+    /// Friction brake on every axle (N·m, ≥ 0): opposes the spin and holds
+    /// the wheelset at standstill (`runtime::dynamics::SystemSettings`).
+    #[serde(default)]
+    pub axle_brake_torque_nm: f64,
 }
 
 fn default_integrator() -> String {
@@ -481,6 +505,33 @@ impl Scene {
             i.deceleration_m_s2
         );
         ensure!(
+            i.acceleration_m_s2.is_finite() && i.acceleration_m_s2 >= 0.0,
+            "[initial] acceleration_m_s2 = {} must be >= 0",
+            i.acceleration_m_s2
+        );
+        ensure!(
+            i.acceleration_m_s2 == 0.0 || i.deceleration_m_s2 == 0.0,
+            "[initial] give acceleration_m_s2 or deceleration_m_s2, not both"
+        );
+        if let Some(vf) = i.final_speed_m_s {
+            ensure!(
+                vf.is_finite() && vf.abs() <= 150.0,
+                "[initial] final_speed_m_s = {vf} must lie in [-150, 150] m/s"
+            );
+            ensure!(
+                i.acceleration_m_s2 > 0.0 || i.deceleration_m_s2 > 0.0,
+                "[initial] final_speed_m_s needs acceleration_m_s2 or deceleration_m_s2"
+            );
+            ensure!(
+                i.acceleration_m_s2 == 0.0 || vf >= i.speed_m_s,
+                "[initial] final_speed_m_s = {vf} must be >= speed_m_s when accelerating"
+            );
+            ensure!(
+                i.deceleration_m_s2 == 0.0 || vf <= i.speed_m_s,
+                "[initial] final_speed_m_s = {vf} must be <= speed_m_s when braking"
+            );
+        }
+        ensure!(
             i.lateral_m.is_finite() && i.lateral_m.abs() <= 0.02,
             "[initial] lateral_m = {} must lie within ±0.02 m",
             i.lateral_m
@@ -502,12 +553,31 @@ impl Scene {
             ),
             _ => bail!("[run]: give either distance_m or duration_s"),
         }
-        if r.distance_m.is_some() {
+        if let Some(d) = r.distance_m {
             ensure!(
-                i.speed_m_s > 0.0,
-                "[run] distance_m needs [initial] speed_m_s > 0 (use duration_s at standstill)"
+                i.speed_m_s > 0.0 || i.acceleration_m_s2 > 0.0,
+                "[run] distance_m needs [initial] speed_m_s > 0 or acceleration_m_s2 > 0 (use duration_s at standstill)"
+            );
+            ensure!(
+                self.speed_ramp().time_to_cover_s(d).is_some()
+                    || i.final_speed_m_s.is_none_or(|vf| vf >= 0.0),
+                "[run] distance_m = {d} is never covered: the references reverse first (use duration_s)"
             );
         }
+        for (key, v) in [
+            ("axle_torque_nm", r.axle_torque_nm),
+            ("axle_brake_torque_nm", r.axle_brake_torque_nm),
+        ] {
+            ensure!(
+                v.is_finite() && v.abs() <= 1e6,
+                "[run] {key} = {v} must lie within ±1e6 N·m"
+            );
+        }
+        ensure!(
+            r.axle_brake_torque_nm >= 0.0,
+            "[run] axle_brake_torque_nm = {} must be >= 0 (it always opposes the spin)",
+            r.axle_brake_torque_nm
+        );
         self.method()?;
         ensure!(
             r.output_interval_s.is_finite() && r.output_interval_s > 0.0,
@@ -517,21 +587,24 @@ impl Scene {
         Ok(())
     }
 
+    /// The references' speed against time ([initial] speed_m_s,
+    /// acceleration_m_s2 or deceleration_m_s2, final_speed_m_s).
+    pub fn speed_ramp(&self) -> SpeedRamp {
+        let i = &self.initial;
+        SpeedRamp {
+            initial_m_s: i.speed_m_s,
+            rate_m_s2: i.acceleration_m_s2 - i.deceleration_m_s2,
+            final_m_s: i.final_speed_m_s,
+        }
+    }
+
     /// Simulated time (s): for `distance_m`, the time the references take
-    /// to cover it (with a deceleration, until they stop).
+    /// to cover it (with a deceleration, until they stop, if they stop
+    /// first).
     pub fn duration_s(&self) -> f64 {
-        let (v0, a) = (self.initial.speed_m_s, self.initial.deceleration_m_s2);
+        let ramp = self.speed_ramp();
         match (self.run.distance_m, self.run.duration_s) {
-            (Some(d), _) if a > 0.0 => {
-                // v0 t − a t²/2 = d, the smaller root; or the stopping time.
-                let disc = v0 * v0 - 2.0 * a * d;
-                if disc > 0.0 {
-                    (v0 - disc.sqrt()) / a
-                } else {
-                    v0 / a
-                }
-            }
-            (Some(d), _) => d / v0,
+            (Some(d), _) => ramp.time_to_cover_s(d).or(ramp.end_time_s()).unwrap_or(0.0),
             (None, Some(t)) => t,
             (None, None) => 0.0,
         }
