@@ -275,3 +275,60 @@ fn compare_contact_tables_writes_its_plots() {
     assert!((q[2]["imported_at_0"].as_f64().unwrap() - 5.952).abs() < 1e-3);
     assert!(q[2]["ours_at_0"].as_f64().unwrap().is_finite());
 }
+
+/// The car's linear critical speed from the eigenvalues, checked against
+/// the time domain: 0.1 mm motions decay 4 % below it and grow 4 % above
+/// it (README "A published model": eigenvalues 110.7 m/s at 4.71 Hz, time
+/// domain 112.8 m/s — the contact-angle slope of the table falls with
+/// the amplitude, see there).
+#[test]
+fn linear_critical_speed_agrees_with_the_time_domain() {
+    let dir = scratch("cooperrider_critical");
+    let o = run(sim()
+        .arg("critical-speed")
+        .arg(shipped(SCENE))
+        .args([
+            "--method", "linear", "--min", "60", "--max", "150", "--json",
+        ])
+        .arg("--out")
+        .arg(dir.join("linear")));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let j: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("json");
+    let r = &j["results"][0];
+    let v = r["speed_m_s"].as_f64().expect("a critical speed");
+    let f = r["frequency_hz"].as_f64().expect("a hunting frequency");
+    assert!((v - 110.7).abs() < 1.0, "linear critical speed {v} m/s");
+    assert!((f - 4.71).abs() < 0.1, "hunting frequency {f} Hz");
+    // Growth rates of 0.1 mm motions at 0.96 v and 1.04 v (3 s runs).
+    let rate = |speed: f64| {
+        let out = dir.join(format!("run_{speed:.0}.h5"));
+        let o = run(sim()
+            .arg("run")
+            .arg(shipped(SCENE))
+            .arg("-o")
+            .arg(&out)
+            .args(["--json", "--no-plots", "--quiet"])
+            .args(["--set", &format!("initial.speed_m_s={speed}")])
+            .args(["--set", "initial.lateral_m=1e-4"])
+            .args(["--set", "run.duration_s=3"])
+            .args(["--set", "track.straight_m=500"]));
+        assert!(o.status.success(), "{}", stderr(&o));
+        let f = hdf5::File::open(&out).unwrap();
+        let y: Vec<f64> = f
+            .dataset("wheelset_0/lateral_m")
+            .unwrap()
+            .read_raw()
+            .unwrap();
+        // Peak |y| over the second and the last second.
+        let n = y.len();
+        let peak = |a: usize, b: usize| y[a..b].iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        peak(n / 3, 2 * n / 3) / peak(2 * n / 3, n)
+    };
+    let below = rate(0.96 * v);
+    let above = rate(1.04 * v);
+    assert!(
+        below > 1.0,
+        "decays below: earlier/later peak ratio {below}"
+    );
+    assert!(above < 1.0, "grows above: earlier/later peak ratio {above}");
+}
