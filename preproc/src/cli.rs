@@ -312,7 +312,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Build(args) => {
             let req = args.to_request(command_line())?;
             let sink = BarSink::new();
-            let summary = run_build(&req, &sink)
+            let mut summary = run_build(&req, &sink)
                 .with_context(|| format!("building {} failed", req.output.display()))?;
             sink.event(Progress::Done);
             if let (Some(dir), Some(_)) = (&args.contact.plots, &req.contact) {
@@ -321,6 +321,7 @@ pub fn run(cli: Cli) -> Result<()> {
                 crate::contact_plots::write_contact_plots(dir, &table)
                     .with_context(|| format!("writing plots into {}", dir.display()))?;
             }
+            summary.peak_memory_mb = crate::summary::peak_memory_mb();
             if args.json {
                 println!("{}", serde_json::to_string_pretty(&summary)?);
             } else {

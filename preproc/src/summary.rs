@@ -42,6 +42,29 @@ pub struct BuildSummary {
     pub contact_table: Option<ContactTableSummary>,
     /// Wall time of the build including writing (s).
     pub elapsed_s: f64,
+    /// Peak resident memory of the process so far (MB = 10⁶ bytes), from
+    /// `VmHWM` of `/proc/self/status` ([`peak_memory_mb`]); `None` where
+    /// that is not available (not Linux) or not measured (library calls).
+    pub peak_memory_mb: Option<f64>,
+}
+
+/// Peak resident set size of this process (MB = 10⁶ bytes): the `VmHWM`
+/// line of `/proc/self/status` (Linux, proc(5); given there in kB =
+/// 1024 bytes). `None` where the file or the line is missing.
+pub fn peak_memory_mb() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    parse_vmhwm_mb(&status)
+}
+
+/// The `VmHWM:   1234 kB` line of a proc status text, in MB (10⁶ bytes).
+fn parse_vmhwm_mb(status: &str) -> Option<f64> {
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let mut fields = line["VmHWM:".len()..].split_whitespace();
+    let value: f64 = fields.next()?.parse().ok()?;
+    match fields.next() {
+        Some("kB") => Some(value * 1024.0 / 1e6),
+        _ => None,
+    }
 }
 
 /// What a contact table holds.
@@ -164,6 +187,7 @@ impl BuildSummary {
             max_irregularity_m: max_irr,
             contact_table: None,
             elapsed_s,
+            peak_memory_mb: None,
         }
     }
 
@@ -179,7 +203,7 @@ impl BuildSummary {
             .map(ContactTableSummary::to_text)
             .unwrap_or_default();
         format!(
-            "wrote {}\n  length            {:.3} m (rails: left {:.3} m, right {:.3} m)\n  scheme, step      {}, {} m\n  rows              centerline {}, left rail {}, right rail {}\n  min curve radius  {radius}\n  max cant          {:.4} rad ({:.1} mm)\n  max irregularity  {:.2} mm\n{contact}  time              {:.3} s\n",
+            "wrote {}\n  length            {:.3} m (rails: left {:.3} m, right {:.3} m)\n  scheme, step      {}, {} m\n  rows              centerline {}, left rail {}, right rail {}\n  min curve radius  {radius}\n  max cant          {:.4} rad ({:.1} mm)\n  max irregularity  {:.2} mm\n{contact}  time              {:.3} s\n{}",
             self.output,
             self.length_m,
             self.left_rail_length_m,
@@ -193,6 +217,27 @@ impl BuildSummary {
             self.max_cant_mm,
             self.max_irregularity_m * 1e3,
             self.elapsed_s,
+            self.peak_memory_mb
+                .map(|m| format!("  peak memory       {m:.1} MB\n"))
+                .unwrap_or_default(),
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn vmhwm_is_read_in_megabytes() {
+        let status =
+            "Name:\ttrack-preproc\nVmPeak:\t  20000 kB\nVmHWM:\t    1000 kB\nVmRSS:\t 900 kB\n";
+        assert_eq!(parse_vmhwm_mb(status), Some(1.024));
+        assert_eq!(parse_vmhwm_mb("VmRSS: 5 kB\n"), None);
+        assert_eq!(parse_vmhwm_mb("VmHWM: lots\n"), None);
+        if cfg!(target_os = "linux") {
+            let m = peak_memory_mb().expect("Linux has /proc/self/status");
+            assert!(m > 0.1 && m < 1e6, "{m} MB");
+        }
     }
 }

@@ -7,6 +7,8 @@
 //! Cargo builds this directory as one test target: `cargo test --test extremes`.
 //! Cases that take minutes are `#[ignore]` (README: "Extremes").
 
+mod bad_input;
 #[path = "../common/mod.rs"]
-#[allow(dead_code)]
 mod common;
+mod fuzz;
+mod track;

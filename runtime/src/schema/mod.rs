@@ -72,6 +72,14 @@ pub enum SchemaError {
         #[source]
         source: hdf5::Error,
     },
+    /// Creating an output file failed (a missing or read-only directory,
+    /// a full disk): nothing was written.
+    #[error("cannot create '{path}' (does its directory exist, and is it writable?): {source}")]
+    Create {
+        path: PathBuf,
+        #[source]
+        source: hdf5::Error,
+    },
     #[error(
         "'{path}' has table schema version {found}, which this build does not read (it reads version {supported}); rebuild the tables with this version of track-preproc"
     )]

@@ -32,10 +32,11 @@ impl TableFileWriter {
     /// Start writing `path` (atomically; see [`AtomicFile`]).
     pub fn create(path: &Path) -> Result<Self, SchemaError> {
         let atomic = AtomicFile::new(path);
-        let file = hdf5::File::create(atomic.temp_path()).map_err(|source| SchemaError::Open {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let file =
+            hdf5::File::create(atomic.temp_path()).map_err(|source| SchemaError::Create {
+                path: path.to_path_buf(),
+                source,
+            })?;
         let w = Self { file, atomic };
         w.attr_u32("schema_version", SCHEMA_VERSION)?;
         Ok(w)

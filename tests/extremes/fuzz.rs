@@ -1,0 +1,1 @@
+//! Fuzzing the input parsers with proptest (issue 7, part A).
