@@ -11,4 +11,5 @@ mod bad_input;
 #[path = "../common/mod.rs"]
 mod common;
 mod fuzz;
+mod motion;
 mod track;

@@ -44,6 +44,17 @@ use crate::normal::ContactMemory;
 use crate::profile::{MAX_SEGMENTS, Zone};
 use crate::track::{Side, TrackError, TrackTables};
 
+/// Rim speed (m/s) below which the friction brake's torque
+/// ([`SystemSettings::axle_brake_torque_nm`]) is proportional to the spin
+/// (regularised Coulomb friction; exact Coulomb friction, a set-valued
+/// torque at Ω = 0, has no ODE form). Below it the brake is a rotary
+/// damper c = T_b r₀/v_ε; its time constant on a wheelset,
+/// (I_spin + m r₀²) v_ε/(T_b r₀), is 0.8 ms for the ML95-like wheelset
+/// braked at 1 kN·m — far slower than the creep forces at standstill
+/// (`crate::creepage`, ~10 µs), so it does not limit the step, and a
+/// wheelset stops within a few of them instead of creeping to rest.
+pub const BRAKE_STICK_SPEED_M_S: f64 = 1e-3;
+
 /// Standard gravity (m/s²), SPEC §1.
 pub const GRAVITY_M_S2: f64 = 9.81;
 
@@ -102,9 +113,8 @@ pub struct SystemSettings {
     pub axle_torque_nm: f64,
     /// Friction brake on every wheelset's axle (N·m, ≥ 0): a torque
     /// −T_b·Ω/max(|Ω|, Ω_ε) opposing the spin Ω (regularised Coulomb
-    /// friction, Ω_ε = v_min/r₀ with v_min the creepages' regularisation
-    /// speed, so it stops the wheelset at standstill instead of reversing
-    /// it, like the creep forces at |V| < v_min, `crate::creepage`).
+    /// friction, Ω_ε = [`BRAKE_STICK_SPEED_M_S`]/r₀), so that it stops the
+    /// wheelset and holds it instead of reversing it.
     pub axle_brake_torque_nm: f64,
     /// Track distance of the vehicle reference point at t = 0 (m).
     pub s_start_m: f64,
@@ -954,8 +964,7 @@ impl<'a> VehicleSystem<'a> {
             }
             // Axle torque: drive (constant) and friction brake (module docs
             // of `SystemSettings::axle_brake_torque_nm`), about the axle.
-            let brake_eps_rad_s =
-                self.settings.forces.creepage.min_rolling_speed_m_s / w.nominal_radius_m;
+            let brake_eps_rad_s = BRAKE_STICK_SPEED_M_S / w.nominal_radius_m;
             snap.axle_torque_nm = self.settings.axle_torque_nm
                 - self.settings.axle_brake_torque_nm * snap.spin_rad_s
                     / snap.spin_rad_s.abs().max(brake_eps_rad_s);
