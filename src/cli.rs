@@ -231,21 +231,41 @@ pub struct RunArgs {
     /// No progress bar.
     #[arg(long, short)]
     pub quiet: bool,
+    /// Model only what the scene requires: the planner chooses the flange
+    /// search, contact method, table step and track range wherever the
+    /// scene leaves them out (= --set plan.mode=required; README "Only what
+    /// the scene requires").
+    #[arg(long, conflicts_with = "model_everything")]
+    pub plan: bool,
+    /// Model everything: flange always searched, online contact, the finest
+    /// table step, the whole track (= --set plan.mode=everything).
+    #[arg(long)]
+    pub model_everything: bool,
+    /// Print the plan (what the run would model, and why) and exit.
+    #[arg(long)]
+    pub plan_only: bool,
 }
 
 impl RunArgs {
     /// Second stage: the checked request.
     pub fn to_request(&self) -> Result<crate::run::RunRequest> {
         use crate::scene::LoadedScene;
+        let mut set = self.set.clone();
+        if self.plan {
+            set.push("plan.mode=\"required\"".into());
+        }
+        if self.model_everything {
+            set.push("plan.mode=\"everything\"".into());
+        }
         let (scene, stem) = match &self.scene {
             Some(p) => (
-                LoadedScene::load(p, &self.set)?,
+                LoadedScene::load(p, &set)?,
                 p.file_stem()
                     .map(|s| s.to_string_lossy().into_owned())
                     .unwrap_or_else(|| "run".into()),
             ),
             None => (
-                LoadedScene::default_scene(&self.set)?,
+                LoadedScene::default_scene(&set)?,
                 "wheelset_straight".to_string(),
             ),
         };
@@ -531,6 +551,18 @@ fn run_command(args: &RunArgs) -> Result<()> {
     use std::sync::atomic::{AtomicBool, Ordering};
 
     let req = args.to_request()?;
+    let plan = crate::planner::plan(&req.scene).context("planning the run")?;
+    if args.plan_only {
+        if args.json {
+            println!("{}", serde_json::to_string_pretty(&plan)?);
+        } else {
+            print!("{}", plan.to_text());
+        }
+        return Ok(());
+    }
+    if !args.json {
+        print!("{}", plan.to_text());
+    }
     let stop = Arc::new(AtomicBool::new(false));
     {
         let stop = stop.clone();
@@ -559,7 +591,7 @@ fn run_command(args: &RunArgs) -> Result<()> {
             p.simulated_s, p.total_s, rtf
         ));
     };
-    let result = crate::run::run_scene(&req, &mut progress, Some(stop));
+    let result = crate::run::run_scene_with_plan(&req, plan, &mut progress, Some(stop));
     bar.finish_and_clear();
     let summary = result?;
     if args.json {

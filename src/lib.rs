@@ -8,6 +8,7 @@ pub mod compare_tables;
 pub mod contact;
 pub mod creep_curves;
 pub mod critical_speed;
+pub mod planner;
 pub mod probe;
 pub mod run;
 pub mod run_plots;

@@ -156,6 +156,8 @@ pub struct RunSummary {
     /// The error that ended the run, if any (the results so far are written).
     pub error: Option<String>,
     pub track: TrackSource,
+    /// What the planner decided ([`crate::planner`]).
+    pub plan: crate::planner::Plan,
 }
 
 /// What to run and where to write.
@@ -174,8 +176,42 @@ pub fn run_scene(
     progress: &mut dyn FnMut(RunProgress),
     stop: Option<Arc<AtomicBool>>,
 ) -> Result<RunSummary> {
+    let plan = crate::planner::plan(&req.scene).context("planning the run")?;
+    run_scene_with_plan(req, plan, progress, stop)
+}
+
+/// Runs a scene with the decisions of [`crate::planner::plan`]; a run
+/// whose flange guard trips is repeated with the flange searched (`auto`).
+pub fn run_scene_with_plan(
+    req: &RunRequest,
+    mut plan: crate::planner::Plan,
+    progress: &mut dyn FnMut(RunProgress),
+    stop: Option<Arc<AtomicBool>>,
+) -> Result<RunSummary> {
+    loop {
+        match run_planned(req, &plan, progress, stop.clone())? {
+            Attempt::Done(summary) => return Ok(*summary),
+            Attempt::Revise(why) => plan.revise_flange(&why),
+        }
+    }
+}
+
+/// One run of a plan.
+enum Attempt {
+    Done(Box<RunSummary>),
+    /// The flange guard tripped (where, and the time lost).
+    Revise(String),
+}
+
+fn run_planned(
+    req: &RunRequest,
+    plan: &crate::planner::Plan,
+    progress: &mut dyn FnMut(RunProgress),
+    stop: Option<Arc<AtomicBool>>,
+) -> Result<Attempt> {
     let setup_start = Instant::now();
-    let ls = &req.scene;
+    let planned = plan.apply(&req.scene);
+    let ls = &planned;
     let scene = &ls.scene;
     let (track, source) = load_track(ls).context("track tables")?;
     let vehicle_path = ls.path(&scene.vehicle.file);
@@ -194,8 +230,14 @@ pub fn run_scene(
         },
     )
     .context("assembling the vehicle on the track")?;
-    if let Some(flag) = stop.clone() {
-        system.set_stop_flag(flag);
+    // With a flange guard the system stops on its own flag, set by the
+    // guard or by the caller's (checked at every accepted step).
+    let guard = plan.flange_guard;
+    let guard_flag = Arc::new(AtomicBool::new(false));
+    match (stop.clone(), guard) {
+        (Some(flag), None) => system.set_stop_flag(flag),
+        (None, None) => {}
+        (_, Some(_)) => system.set_stop_flag(guard_flag.clone()),
     }
     system.enable_energy_ledger();
     let total_s = scene.duration_s();
@@ -204,8 +246,15 @@ pub fn run_scene(
     let mut accepted = 0u64;
     {
         let progress_ref = &mut *progress;
+        let (user_stop, guard_flag) =
+            (stop.clone().filter(|_| guard.is_some()), guard_flag.clone());
         system.set_progress(Box::new(move |t| {
             accepted += 1;
+            if let Some(u) = &user_stop
+                && u.load(std::sync::atomic::Ordering::Relaxed)
+            {
+                guard_flag.store(true, std::sync::atomic::Ordering::Relaxed);
+            }
             if accepted % 256 == 0 {
                 progress_ref(RunProgress {
                     simulated_s: t,
@@ -216,6 +265,7 @@ pub fn run_scene(
         }));
     }
     let mut recorder = Recorder::new(&system);
+    let mut tripped: Option<String> = None;
     let outcome = integrate(
         &integrator,
         &mut system,
@@ -225,9 +275,25 @@ pub fn run_scene(
         &OutputGrid {
             interval_s: scene.run.output_interval_s,
         },
-        &mut |sys, t, y| recorder.record(sys, t, y),
+        &mut |sys, t, y| {
+            recorder.record(sys, t, y)?;
+            if let Some(g) = guard
+                && tripped.is_none()
+            {
+                tripped = crate::planner::guard_check(&g, &recorder.results, t);
+                if tripped.is_some() {
+                    guard_flag.store(true, std::sync::atomic::Ordering::Relaxed);
+                }
+            }
+            Ok(())
+        },
     );
     let wall_time_s = start.elapsed().as_secs_f64();
+    if let Some(why) = tripped {
+        return Ok(Attempt::Revise(format!(
+            "{why}; the first attempt took {wall_time_s:.2} s of integration"
+        )));
+    }
     let counters = system.counters();
     let stats_solvers =
         system
@@ -276,6 +342,11 @@ pub fn run_scene(
         ("integrator".into(), scene.run.integrator.clone()),
         ("speed_m_s".into(), format!("{}", scene.initial.speed_m_s)),
         ("track".into(), source.path.clone()),
+        ("plan".into(), plan.to_text()),
+        (
+            "plan_json".into(),
+            serde_json::to_string(plan).context("the plan as JSON")?,
+        ),
         (
             "status".into(),
             match (&error, &stopped) {
@@ -331,6 +402,7 @@ pub fn run_scene(
         stopped,
         error: error.as_ref().map(|e| format!("{e:#}")),
         track: source,
+        plan: plan.clone(),
     };
     match error {
         Some(e) => Err(e.context(format!(
@@ -338,7 +410,7 @@ pub fn run_scene(
             simulated_time_s,
             req.output.display()
         ))),
-        None => Ok(summary),
+        None => Ok(Attempt::Done(Box::new(summary))),
     }
 }
 
@@ -508,6 +580,9 @@ impl RunSummary {
         if let Some(st) = &self.stopped {
             s += &format!("  stopped early: {st}\n");
         }
+        if let Some(r) = &self.plan.revised {
+            s += &format!("  plan revised: {r}\n");
+        }
         for p in &self.plots {
             s += &format!("  plot {p}\n");
         }
@@ -564,6 +639,24 @@ pub fn load_track(ls: &LoadedScene) -> Result<(TrackTables, TrackSource)> {
                 path: path.display().to_string(),
                 built: false,
                 build_time_s: 0.0,
+            },
+        ));
+    }
+    if let Some(range) = t.range_m {
+        let start = Instant::now();
+        let tables = crate::planner::build_track_range(ls, range)?;
+        let (a, b) = tables.centerline.range_m();
+        return Ok((
+            tables,
+            TrackSource {
+                path: format!(
+                    "{} s {a:.1} … {b:.1} m at {} m (in memory)",
+                    ls.path(t.centerline.as_ref().context("no centerline")?)
+                        .display(),
+                    t.step_m
+                ),
+                built: true,
+                build_time_s: start.elapsed().as_secs_f64(),
             },
         ));
     }

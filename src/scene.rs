@@ -49,7 +49,18 @@
 //! output_interval_s = 0.01
 //! # axle_torque_nm = 2000.0     # every axle: + traction, − a constant braking torque
 //! # axle_brake_torque_nm = 500.0  # every axle: a friction brake that holds at standstill
+//! # lateral_tolerance_m = 1e-5  # optional: the error of the lateral displacement the
+//! #                             # run accepts; lets the planner use the contact table
+//!
+//! # [plan]                      # optional: model only what the scene requires
+//! # mode = "required"           # scene (default) | required | everything
+//! # choose = ["flange"]         # items the planner chooses even when set above
 //! ```
+//!
+//! The `[plan]` section and `track.range_m` are described in
+//! [`crate::planner`]: with `mode = "required"` the planner chooses the
+//! flange search, the contact method, the table step and the track range
+//! wherever the scene leaves them out (or lists them in `choose`).
 
 use std::path::{Path, PathBuf};
 
@@ -89,6 +100,11 @@ pub struct TrackSection {
     pub rail_inclination: String,
     /// Rail profile (both rails; SIMPACK .prr, two columns or CSV).
     pub rail_profile: PathBuf,
+    /// Tabulate only this stretch `[from, to]` of the centreline (track
+    /// distance, m), built in memory; CSV inputs only. Set by the planner
+    /// ([`crate::planner`]) or by hand; absent: the whole track.
+    #[serde(default)]
+    pub range_m: Option<[f64; 2]>,
 }
 
 fn default_step() -> f64 {
@@ -262,6 +278,11 @@ pub struct RunSection {
     /// the wheelset at standstill (`runtime::dynamics::SystemSettings`).
     #[serde(default)]
     pub axle_brake_torque_nm: f64,
+    /// The largest error of any wheelset's lateral displacement (m) the run
+    /// accepts against the fully modelled run; optional. The planner uses
+    /// the contact lookup table only where its measured error is within it.
+    #[serde(default)]
+    pub lateral_tolerance_m: Option<f64>,
 }
 
 fn default_integrator() -> String {
@@ -295,6 +316,37 @@ pub struct Scene {
     pub contact: ContactSection,
     pub initial: InitialSection,
     pub run: RunSection,
+    #[serde(default)]
+    pub plan: PlanSection,
+}
+
+/// What the planner may choose ([`crate::planner`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlanSection {
+    /// `scene` (the default: run the scene as written; the planner only
+    /// reports), `required` (the planner chooses every item the scene leaves
+    /// out) or `everything` (the reference: flange always searched, online
+    /// contact, the finest table step, the whole track).
+    #[serde(default = "default_plan_mode")]
+    pub mode: String,
+    /// Items the planner chooses even when the scene sets them (with
+    /// `mode = "required"`): `flange`, `method`, `step`, `range`, or `all`.
+    #[serde(default)]
+    pub choose: Vec<String>,
+}
+
+fn default_plan_mode() -> String {
+    "scene".into()
+}
+
+impl Default for PlanSection {
+    fn default() -> Self {
+        Self {
+            mode: default_plan_mode(),
+            choose: Vec::new(),
+        }
+    }
 }
 
 /// A scene with its origin: the directory its paths are relative to and
@@ -439,6 +491,16 @@ impl Scene {
             "[track] step_m = {} must lie in (0, 5] m",
             t.step_m
         );
+        if let Some([a, b]) = t.range_m {
+            ensure!(
+                a.is_finite() && b.is_finite() && a >= 0.0 && b > a,
+                "[track] range_m = [{a}, {b}] must be [from, to] with 0 <= from < to (m)"
+            );
+            ensure!(
+                t.centerline.is_some(),
+                "[track] range_m needs centerline inputs (a table file is used as it is; an ideal straight is shortened with straight_m)"
+            );
+        }
         ensure!(
             t.gauge_m > 0.5 && t.gauge_m < 2.5,
             "[track] gauge_m = {} must lie in 0.5 … 2.5 m",
@@ -584,6 +646,13 @@ impl Scene {
             "[run] output_interval_s = {} must be > 0",
             r.output_interval_s
         );
+        if let Some(tol) = r.lateral_tolerance_m {
+            ensure!(
+                tol.is_finite() && tol > 0.0,
+                "[run] lateral_tolerance_m = {tol} must be > 0 (m)"
+            );
+        }
+        crate::planner::validate_section(&self.plan)?;
         Ok(())
     }
 
