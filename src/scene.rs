@@ -806,4 +806,50 @@ mod tests {
             assert!(chain.contains(what), "{o}: {chain}");
         }
     }
+
+    #[test]
+    fn speed_ramps_and_axle_torques() {
+        let scene = |o: &[&str]| {
+            let o: Vec<String> = o.iter().map(|s| s.to_string()).collect();
+            LoadedScene::default_scene(&o)
+        };
+        // From rest over 4 m at 2 m/s²: 2 s.
+        let s = scene(&[
+            "initial.speed_m_s=0",
+            "initial.acceleration_m_s2=2",
+            "run.distance_m=4",
+        ])
+        .unwrap();
+        assert!((s.scene.duration_s() - 2.0).abs() < 1e-12);
+        // Braking from 10 m/s at 2 m/s² stops after 25 m, at 5 s.
+        let s = scene(&["initial.deceleration_m_s2=2", "run.distance_m=100"]).unwrap();
+        assert!((s.scene.duration_s() - 5.0).abs() < 1e-12);
+        let s = scene(&["run.axle_torque_nm=-2000", "run.axle_brake_torque_nm=500"]).unwrap();
+        assert_eq!(s.scene.run.axle_torque_nm, -2000.0);
+        let cases: [(&[&str], &str); 6] = [
+            (
+                &["initial.acceleration_m_s2=1", "initial.deceleration_m_s2=1"],
+                "not both",
+            ),
+            (&["initial.final_speed_m_s=3"], "needs acceleration_m_s2"),
+            (
+                &["initial.acceleration_m_s2=1", "initial.final_speed_m_s=3"],
+                ">= speed_m_s",
+            ),
+            (
+                &[
+                    "initial.deceleration_m_s2=1",
+                    "initial.final_speed_m_s=-2",
+                    "run.distance_m=1000",
+                ],
+                "never covered",
+            ),
+            (&["run.axle_brake_torque_nm=-1"], "axle_brake_torque_nm"),
+            (&["run.axle_torque_nm=nan"], "axle_torque_nm"),
+        ];
+        for (o, what) in cases {
+            let chain = format!("{:#}", scene(o).unwrap_err());
+            assert!(chain.contains(what), "{o:?}: {chain}");
+        }
+    }
 }
