@@ -441,7 +441,7 @@ pub struct VehicleSystem<'a> {
 
 /// A run stops when the vehicle reference point or a wheelset comes this
 /// close to an end of the track tables (m): a contact point may lead or lag
-/// its axle, and the reference anchors look ±[`REFERENCE_DS_M`] along.
+/// its axle, and the reference anchors look ±5 cm along (`REFERENCE_DS_M`).
 pub const TRACK_END_MARGIN_M: f64 = 2.0;
 
 /// The same at the start of the tables (m), reached only by running
