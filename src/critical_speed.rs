@@ -389,8 +389,14 @@ pub fn hunting_mode(scene: &LoadedScene, law: &str, v: f64) -> Result<Option<Mod
     let vfile = crate::vehicle_file::VehicleFile::load(&s.path(&s.scene.vehicle.file))?;
     let vehicle = crate::run::vehicle_model(&vfile, &track, &s.path(&s.scene.track.rail_profile))?;
     let mut settings: SystemSettings = crate::run::system_settings(&s, &vfile, &track)?;
+    // The linearisation is about a steady run at v: no speed ramp, no axle
+    // torque (either would make the centred run non-stationary).
     settings.speed_m_s = v;
     settings.deceleration_m_s2 = 0.0;
+    settings.acceleration_m_s2 = 0.0;
+    settings.final_speed_m_s = None;
+    settings.axle_torque_nm = 0.0;
+    settings.axle_brake_torque_nm = 0.0;
     let (mut system, y0) =
         VehicleSystem::assemble(&track, &vehicle, settings, InitialConditions::default())?;
     let lin = linearise(&mut system, &y0)?;
