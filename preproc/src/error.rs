@@ -60,6 +60,21 @@ pub enum BuildError {
     },
     #[error("{0}")]
     Geometry(String),
+    /// The track is too long for its table step or for the spacing of its
+    /// closest control points: the `what` (a table, the rail nodal points)
+    /// would need more than `max` rows, more memory than a build should
+    /// take (checked before allocating: an allocation that fails aborts).
+    #[error(
+        "the {what} would need {rows:.3e} rows ({length_m:.1} m every {spacing_m} m), more than the {max:.0e} a build accepts; {hint}"
+    )]
+    TooLarge {
+        what: &'static str,
+        length_m: f64,
+        spacing_m: f64,
+        rows: f64,
+        max: f64,
+        hint: &'static str,
+    },
     #[error("cannot read '{path}': {source}")]
     Read {
         path: PathBuf,

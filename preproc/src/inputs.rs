@@ -10,6 +10,10 @@ use crate::error::InputError;
 pub const MIN_ROWS: usize = 4;
 /// Largest cant magnitude accepted (rad) (SPEC §2).
 pub const MAX_CANT_RAD: f64 = 0.3;
+/// Largest irregularity accepted per rail (m): measured track geometry
+/// defects are millimetres (EN 13848-5 limits are tens of mm), so 0.2 m is
+/// a unit error — millimetres in a column without `_mm`.
+pub const MAX_IRREGULARITY_M: f64 = 0.2;
 
 /// A cant column: angles (`cant`, rad) or heights (`cant_mm`, converted to
 /// metres on reading), with the line of each value for messages.
@@ -253,6 +257,22 @@ impl IrregularityInput {
         };
         t.require_rows(MIN_ROWS)?;
         t.require_increasing(is)?;
+        for (name, values) in [
+            ("align_left", &al),
+            ("align_right", &ar),
+            ("level_left", &ll),
+            ("level_right", &lr),
+        ] {
+            if let Some(k) = values.iter().position(|v| v.abs() > MAX_IRREGULARITY_M) {
+                return Err(t.error_at(
+                    k,
+                    format!(
+                        "{name} = {:.4e} m is beyond ±{MAX_IRREGULARITY_M} m (check the unit: columns without _mm are in metres)",
+                        values[k]
+                    ),
+                ));
+            }
+        }
         Ok(Self {
             path: path.to_path_buf(),
             s_m: t.values(is),
@@ -366,6 +386,36 @@ mod tests {
         )
         .unwrap_err();
         assert!(e.to_string().contains("line 4"), "{e}");
+    }
+
+    /// Found by fuzzing (tests/extremes/fuzz.rs): an alignment of 10²³ m
+    /// made the rail's table overflow its capacity; irregularities beyond
+    /// 0.2 m are now refused at the line that has them.
+    #[test]
+    fn irregularities_beyond_the_limit() {
+        let e = IrregularityInput::parse(
+            p(),
+            "s,alignment,gauge,level,cross_level\n0,0,0,0,0\n30,99999999999999999999999,0,0,0\n60,0,0,0,0\n90,0,0,0,0\n",
+        )
+        .unwrap_err();
+        assert!(
+            e.to_string().contains("line 3") && e.to_string().contains("align_left"),
+            "{e}"
+        );
+        // Millimetres in a metres column.
+        let e = IrregularityInput::parse(
+            p(),
+            "s,align_left,align_right,level_left,level_right\n0,0,0,0,0\n1,0,0,3,0\n2,0,0,0,0\n3,0,0,0,0\n",
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("level_left = 3"), "{e}");
+        assert!(
+            IrregularityInput::parse(
+                p(),
+                "s,align_left_mm,align_right_mm,level_left_mm,level_right_mm\n0,0,0,0,0\n1,0,0,30,0\n2,0,0,0,0\n3,0,0,0,0\n",
+            )
+            .is_ok()
+        );
     }
 
     #[test]

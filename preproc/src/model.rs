@@ -17,6 +17,51 @@ use crate::rails::{Rail, node_spacing_m};
 /// Rows computed per parallel task.
 const CHUNK_ROWS: usize = 1 << 15;
 
+/// Most rows of one table, and most rail nodal points, a build accepts:
+/// 2 × 10⁷ (2000 km at the default 0.1 m step; the three tables alone are
+/// then 7.8 GB, at 184 + 2 × 104 bytes per row).
+pub const MAX_TABLE_ROWS: f64 = 2e7;
+
+/// Refuses `what` if `length_m / spacing_m` rows would exceed
+/// [`MAX_TABLE_ROWS`] (or is not finite).
+fn check_rows(
+    what: &'static str,
+    length_m: f64,
+    spacing_m: f64,
+    hint: &'static str,
+) -> Result<(), BuildError> {
+    let rows = length_m / spacing_m;
+    if rows.is_finite() && rows <= MAX_TABLE_ROWS {
+        Ok(())
+    } else {
+        Err(BuildError::TooLarge {
+            what,
+            length_m,
+            spacing_m,
+            rows,
+            max: MAX_TABLE_ROWS,
+            hint,
+        })
+    }
+}
+
+/// Refuses a build whose tables or rail nodes would exceed
+/// [`MAX_TABLE_ROWS`] (a track of 10⁹ m, or control points 10⁻⁸ m apart).
+fn check_size(length_m: f64, step_m: f64, node_spacing_m: f64) -> Result<(), BuildError> {
+    check_rows(
+        "track tables",
+        length_m,
+        step_m,
+        "use a larger --step or split the track",
+    )?;
+    check_rows(
+        "rail nodal points (one per closest control-point spacing)",
+        length_m,
+        node_spacing_m,
+        "remove control points that almost repeat, or split the track",
+    )
+}
+
 /// The parsed inputs of a build.
 #[derive(Debug, Clone)]
 pub struct TrackInputs {
@@ -51,6 +96,7 @@ impl TrackModel {
             .map(|i| Irregularities::build(i, centerline.length_m()))
             .transpose()?;
         let spacing = node_spacing_m(&centerline, irregularities.as_ref());
+        check_size(centerline.length_m(), config.step_m, spacing)?;
         let rail = |side| {
             Rail::build(
                 side,
@@ -206,7 +252,21 @@ pub fn grid(length: f64, step: f64) -> Vec<f64> {
 
 #[cfg(test)]
 mod tests {
-    use super::grid;
+    use super::{BuildError, MAX_TABLE_ROWS, check_size, grid};
+
+    #[test]
+    fn oversized_builds_are_refused_before_allocating() {
+        assert!(check_size(100e3, 0.1, 1.0).is_ok());
+        let e = check_size(3e9, 0.1, 1.0).unwrap_err();
+        assert!(
+            matches!(e, BuildError::TooLarge { what: "track tables", rows, .. } if rows > MAX_TABLE_ROWS),
+            "{e}"
+        );
+        assert!(e.to_string().contains("--step"), "{e}");
+        let e = check_size(3000.0, 0.1, 1e-8).unwrap_err();
+        assert!(e.to_string().contains("rail nodal points"), "{e}");
+        assert!(check_size(f64::INFINITY, 0.1, 1.0).is_err());
+    }
 
     #[test]
     fn grid_ends_at_the_length() {

@@ -88,11 +88,16 @@ pub enum ProfileError {
     },
 }
 
+/// Widest lateral span of a profile (m): wheel and rail profiles span
+/// about 0.15 m, so anything beyond 2 m is a unit error or a broken file.
+pub const MAX_PROFILE_SPAN_M: f64 = 2.0;
+
 /// Convert file points to sorted internal `(u, z)` points (right-hand
 /// convention, z up) and the mapping back. Points are kept in order of
 /// increasing `u`; the steep ends (faces steeper than `trim_angle_rad`, and
 /// any part where the profile folds back in `u`) are dropped, since the
-/// contact model describes a profile as a function z(u).
+/// contact model describes a profile as a function z(u). A span wider than
+/// [`MAX_PROFILE_SPAN_M`] is refused.
 pub(crate) fn internal_points(
     path: &std::path::Path,
     points_file_m: &[[f64; 2]],
@@ -157,6 +162,15 @@ pub(crate) fn internal_points(
         )));
     }
     let kept = &pts[first..=last];
+    // Wheel and rail profiles span about 0.15 m; the profiles are scanned
+    // every 0.05 mm, so a span of 10²² m (found by fuzzing) overflowed the
+    // scan grid's capacity, and one of 1 km would take 2 × 10⁷ points.
+    let span_m = kept[kept.len() - 1].0 - kept[0].0;
+    if span_m.is_nan() || span_m > MAX_PROFILE_SPAN_M {
+        return Err(invalid(format!(
+            "the profile spans {span_m:.4e} m laterally, more than {MAX_PROFILE_SPAN_M} m (a wheel or rail profile spans about 0.15 m): check the file's length unit"
+        )));
+    }
     // Report interior fold-backs the trimming would silently cut away.
     let dropped = pts.len() - kept.len();
     if dropped * 2 > pts.len() {

@@ -419,6 +419,35 @@ mod tests {
         pts
     }
 
+    /// Found by fuzzing (tests/extremes/fuzz.rs): a point at y = 10²² m
+    /// overflowed the scan grid's capacity (a panic); a profile wider than
+    /// 2 m is now an error, for wheels and rails alike.
+    #[test]
+    fn a_profile_spanning_kilometres_is_refused() {
+        let pts = [
+            [-0.06, 0.03],
+            [-0.03, 0.002],
+            [-0.02, 0.0005],
+            [0.0, 0.0],
+            [0.02, 0.0009],
+            [1e22, 0.0021],
+            [0.06, 0.0035],
+        ];
+        let path = Path::new("w.dat");
+        let e = WheelProfile::from_points(path, &pts, false, WheelProfileOptions::default())
+            .unwrap_err();
+        assert!(e.to_string().contains("spans"), "{e}");
+        let wide: Vec<[f64; 2]> = (0..50).map(|k| [k as f64 * 0.1, 0.0]).collect();
+        let e = crate::profile::RailProfile::from_points(
+            path,
+            &wide,
+            false,
+            crate::profile::RailProfileOptions::default(),
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("spans 4.9"), "{e}");
+    }
+
     #[test]
     fn flangeless_cone_is_one_tread_piece() {
         let pts: Vec<[f64; 2]> = (0..200)

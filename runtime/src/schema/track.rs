@@ -176,12 +176,23 @@ pub fn write_track_file(
     w.finish()
 }
 
-/// Open a table file and check its schema version.
+/// Open a table file and check its schema version. A results file of
+/// `sim run` (root attribute `schema`, which table files do not have) is
+/// refused as such.
 fn open_checked(path: &Path) -> Result<hdf5::File, SchemaError> {
     let file = hdf5::File::open(path).map_err(|source| SchemaError::Open {
         path: path.to_path_buf(),
         source,
     })?;
+    if let Ok(schema) = attrs::read_str(path, &file, "the file", "schema") {
+        return Err(SchemaError::Invalid {
+            path: path.to_path_buf(),
+            object: "the file".into(),
+            rule: format!(
+                "its root attribute schema = \"{schema}\" marks a results file of sim run, not a table file of track-preproc"
+            ),
+        });
+    }
     let found: u32 = attrs::read(path, &file, "the file", "schema_version")?;
     if found != SCHEMA_VERSION {
         return Err(SchemaError::UnsupportedVersion {
