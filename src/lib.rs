@@ -8,6 +8,8 @@ pub mod compare_tables;
 pub mod contact;
 pub mod creep_curves;
 pub mod critical_speed;
+pub mod diagnostics;
+pub mod load;
 pub mod planner;
 pub mod probe;
 pub mod run;

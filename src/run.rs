@@ -77,6 +77,8 @@ pub struct WheelsetSummary {
     pub flange_contact_right_s: f64,
     /// Number of separate flange contacts (onsets in the samples).
     pub flange_contact_events: u64,
+    /// Nadal's criterion per wheel, left then right ([`crate::diagnostics`]).
+    pub nadal: Vec<crate::diagnostics::WheelNadal>,
 }
 
 /// The energy bookkeeping of a run (J;
@@ -148,6 +150,8 @@ pub struct RunSummary {
     /// Accepted states with a flange in contact, summed over the wheels.
     pub flange_contact_states: u64,
     pub wheelsets: Vec<WheelsetSummary>,
+    /// Fallbacks the run went through ([`crate::diagnostics`]).
+    pub fallbacks: crate::diagnostics::FallbackCounts,
     /// Energy bookkeeping between the first and the last accepted state.
     pub energy: Option<EnergySummary>,
     /// Why the run ended before its end time: "interrupted" (Ctrl-C),
@@ -217,10 +221,11 @@ fn run_planned(
     let vehicle_path = ls.path(&scene.vehicle.file);
     let vfile = VehicleFile::load(&vehicle_path)?;
     let rail_path = ls.path(&scene.track.rail_profile);
-    let vehicle = vehicle_model(&vfile, &track, &rail_path)?;
+    let mut vehicle = vehicle_model(&vfile, &track, &rail_path)?;
+    crate::load::add_loads(&mut vehicle, &scene.load)?;
     let settings = system_settings(ls, &vfile, &track)?;
     let integrator = scene.method()?;
-    let (mut system, y0) = VehicleSystem::assemble(
+    let (mut system, mut y0) = VehicleSystem::assemble(
         &track,
         &vehicle,
         settings,
@@ -230,6 +235,13 @@ fn run_planned(
         },
     )
     .context("assembling the vehicle on the track")?;
+    crate::load::perturb(
+        &mut y0,
+        &vehicle,
+        &track,
+        scene.initial.s_m,
+        &scene.perturbation,
+    )?;
     // With a flange guard the system stops on its own flag, set by the
     // guard or by the caller's (checked at every accepted step).
     let guard = plan.flange_guard;
@@ -266,9 +278,11 @@ fn run_planned(
     }
     let mut recorder = Recorder::new(&system);
     let mut tripped: Option<String> = None;
+    // Remembers the state of each evaluation for the diagnostic of a failure.
+    let mut watched = crate::diagnostics::Watched::new(&mut system);
     let outcome = integrate(
         &integrator,
-        &mut system,
+        &mut watched,
         0.0,
         &y0,
         total_s,
@@ -276,6 +290,7 @@ fn run_planned(
             interval_s: scene.run.output_interval_s,
         },
         &mut |sys, t, y| {
+            sys.note(t, y);
             recorder.record(sys, t, y)?;
             if let Some(g) = guard
                 && tripped.is_none()
@@ -289,6 +304,8 @@ fn run_planned(
         },
     );
     let wall_time_s = start.elapsed().as_secs_f64();
+    let diagnostic = outcome.as_ref().err().map(|e| watched.diagnose(e));
+    let hertz_floor_evaluations = watched.hertz_floor_evaluations();
     if let Some(why) = tripped {
         return Ok(Attempt::Revise(format!(
             "{why}; the first attempt took {wall_time_s:.2} s of integration"
@@ -305,6 +322,7 @@ fn run_planned(
                 a.cold_starts += s.stats.cold_starts;
                 a.flange_skipped += s.stats.flange_skipped;
                 a.clear_skipped += s.stats.clear_skipped;
+                a.minimisations += s.stats.minimisations;
                 a
             });
     let track_end_reached = system.track_end_reached();
@@ -356,6 +374,21 @@ fn run_planned(
             },
         ),
     ];
+    let fallbacks = crate::diagnostics::FallbackCounts::count(
+        stats_solvers.minimisations,
+        hertz_floor_evaluations,
+        &results,
+    );
+    results
+        .attributes
+        .extend(crate::diagnostics::run_attributes(
+            stats.as_ref(),
+            counters.accepted,
+            counters.evaluations,
+            stats_solvers.solves,
+            &fallbacks,
+            diagnostic.as_ref(),
+        ));
     runtime::schema::results::write_results(&req.output, &results)
         .with_context(|| format!("writing the results {}", req.output.display()))?;
     let plots = match &req.plots {
@@ -398,6 +431,7 @@ fn run_planned(
         flange_searches_skipped: stats_solvers.flange_skipped + stats_solvers.clear_skipped,
         flange_contact_states: counters.flange_contact_states,
         wheelsets: wheelset_summaries(&results),
+        fallbacks,
         energy,
         stopped,
         error: error.as_ref().map(|e| format!("{e:#}")),
@@ -406,8 +440,11 @@ fn run_planned(
     };
     match error {
         Some(e) => Err(e.context(format!(
-            "the run failed at t = {:.4} s; the results so far are in {}",
+            "the run failed at t = {:.4} s{}; the results so far are in {}",
             simulated_time_s,
+            diagnostic
+                .as_ref()
+                .map_or(String::new(), |d| format!(" ({})", d.headline())),
             req.output.display()
         ))),
         None => Ok(Attempt::Done(Box::new(summary))),
@@ -459,6 +496,12 @@ pub fn system_settings(
             creepage: CreepageOptions {
                 min_rolling_speed_m_s: scene.contact.min_rolling_speed_m_s,
             },
+            non_hertzian: scene
+                .contact
+                .non_hertzian
+                .parse()
+                .map_err(anyhow::Error::msg)
+                .context("[contact] non_hertzian")?,
         },
         contact: ContactOptions {
             flange,
@@ -522,6 +565,7 @@ fn wheelset_summaries(r: &RunResults) -> Vec<WheelsetSummary> {
                 flange_contact_left_s: time_in(&w.wheels[0].flange_contact),
                 flange_contact_right_s: time_in(&w.wheels[1].flange_contact),
                 flange_contact_events: events,
+                nadal: crate::diagnostics::nadal_summary(w, &r.time_s),
             }
         })
         .collect()
@@ -577,6 +621,10 @@ impl RunSummary {
                 e.residual_j
             );
         }
+        for w in &self.wheelsets {
+            s += &crate::diagnostics::nadal_text(&w.name, &w.nadal);
+        }
+        s += &self.fallbacks.to_text();
         if let Some(st) = &self.stopped {
             s += &format!("  stopped early: {st}\n");
         }

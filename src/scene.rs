@@ -30,6 +30,7 @@
 //! creep_law = "polach"      # kalker | heuristic | polach | fastsim | none
 //! friction = 0.3
 //! restitution = 0.9
+//! # non_hertzian = "stop"   # stop | floor: where Hertz does not apply (conformal contact)
 //!
 //! [initial]
 //! speed_m_s = 10.0
@@ -55,6 +56,10 @@
 //! # [plan]                      # optional: model only what the scene requires
 //! # mode = "required"           # scene (default) | required | everything
 //! # choose = ["flange"]         # items the planner chooses even when set above
+//!
+//! # [load]                      # optional: constant loads on the wheelsets (crate::load)
+//! # lateral_force_n = 20000.0   # + left; yaw_moment_nm, yaw_stiffness_nm_rad, yaw_angle_rad
+//! # [perturbation]              # optional: drop_m, lateral_velocity_m_s at t = 0
 //! ```
 //!
 //! The `[plan]` section and `track.range_m` are described in
@@ -174,6 +179,16 @@ pub struct ContactSection {
     /// Creepage regularisation speed (m/s).
     #[serde(default = "default_min_speed")]
     pub min_rolling_speed_m_s: f64,
+    /// Where the contact geometry is not Hertzian (conformal): `stop` (the
+    /// run ends with a diagnostic naming the time, wheel, zone and state)
+    /// or `floor` (go on with floored curvatures, flagged and counted;
+    /// `runtime::contact_force::NonHertzianPolicy`).
+    #[serde(default = "default_non_hertzian")]
+    pub non_hertzian: String,
+}
+
+fn default_non_hertzian() -> String {
+    "stop".into()
 }
 
 fn default_method() -> String {
@@ -318,6 +333,12 @@ pub struct Scene {
     pub run: RunSection,
     #[serde(default)]
     pub plan: PlanSection,
+    /// External loads on the wheelsets (`[load]`, [`crate::load`]).
+    #[serde(default)]
+    pub load: crate::load::LoadSection,
+    /// Changes to the settled initial state (`[perturbation]`, [`crate::load`]).
+    #[serde(default)]
+    pub perturbation: crate::load::PerturbationSection,
 }
 
 /// What the planner may choose ([`crate::planner`]).
@@ -471,6 +492,8 @@ pub fn apply_override(table: &mut toml::Table, assignment: &str) -> Result<()> {
 impl Scene {
     /// Checks every rule, naming the entry.
     pub fn validate(&self) -> Result<()> {
+        self.load.validate()?;
+        self.perturbation.validate()?;
         let t = &self.track;
         match (&t.tables, &t.centerline, t.straight_m) {
             (Some(_), None, None) | (None, Some(_), None) => {}
@@ -538,6 +561,10 @@ impl Scene {
             .parse::<runtime::contact::FlangeSearch>()
             .map_err(anyhow::Error::msg)
             .context("[contact] flange")?;
+        c.non_hertzian
+            .parse::<runtime::contact_force::NonHertzianPolicy>()
+            .map_err(anyhow::Error::msg)
+            .context("[contact] non_hertzian")?;
         self.creep_law()?;
         ensure!(
             c.friction.is_finite() && c.friction >= 0.0 && c.friction <= 2.0,

@@ -46,7 +46,7 @@ fn synthetic(speed_m_s: f64, amplitude_m: f64) -> RunResults {
                         y_rail_m: 0.0,
                         contact_angle_rad: 0.05,
                         lead_m: 0.0,
-                        fallback: false,
+                        fallback: 0,
                     };
                     let flange = if toward > 0.005 {
                         ZoneSample {

@@ -8,8 +8,11 @@
 //!    point ([`crate::creepage`]);
 //! 2. the Hertz ellipse shape from the principal relative curvatures
 //!    A = ½(κ_w,roll + κ_r,roll), B = ½(κ_w,lat + κ_r,lat) (SPEC §7.1,
-//!    [`crate::hertz`]) — non-Hertzian geometry (A ≤ 0 or B ≤ 0) is an error
-//!    naming the contact, never clamped;
+//!    [`crate::hertz`]) — non-Hertzian geometry (A ≤ 0 or B ≤ 0, or a
+//!    curvature ratio beyond the Hertz solver's range) is an error naming
+//!    the contact, never silently clamped; with
+//!    [`NonHertzianPolicy::Floor`] the run goes on with the documented,
+//!    flagged fallback instead ([`NonHertzianPolicy`]);
 //! 3. the normal force N = K δ^1.5 [1 + 3(1 − e²)/4 · δ̇/δ̇⁽⁻⁾] with the
 //!    hysteresis memory of the contact slot ([`crate::normal`]), or a given
 //!    N (quasi-static problems);
@@ -89,6 +92,49 @@ pub struct ContactForceSettings {
     pub normal: NormalForceModel,
     /// Creepage regularisation at low speed.
     pub creepage: CreepageOptions,
+    /// What a non-Hertzian contact does (default: stop with the error).
+    pub non_hertzian: NonHertzianPolicy,
+}
+
+/// What to do where the contact geometry is outside Hertz theory (SPEC
+/// §7.1): A ≤ 0 or B ≤ 0 (a conformal or concave contact: a worn wheel's
+/// hollow tread on a rail head of about the same radius, a throat around
+/// the rail's gauge corner), or max(A, B)/min(A, B) beyond
+/// [`crate::hertz::MAX_CURVATURE_RATIO`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum NonHertzianPolicy {
+    /// Report the error ([`ContactForceError::Hertz`] naming the wheel and
+    /// zone, with A and B): a run stops there and writes its results.
+    #[default]
+    Stop,
+    /// Floor both relative curvatures at [`NON_HERTZIAN_FLOOR_1_M`] and go
+    /// on with the ellipse, stiffness and creep coefficients of the floored
+    /// geometry; the contact is flagged ([`ContactForce::hertz_fallback`])
+    /// so that runs can count and report it. The floor is the one the
+    /// quasi-static settling of [`crate::contact::quasi_static`] already
+    /// uses for such contacts (0.05 1/m, the relative curvature 1/(2R) of a
+    /// 10 m sphere on a plane). With A ≈ 1.16 1/m (a 0.43 m wheel) the
+    /// ellipse is 7.6 times wider than long (2.5 cm wide, 3.3 mm long
+    /// under 10 kN of steel): the order of a conformal band's width. It
+    /// keeps a run going through brief conformal episodes; it is not a
+    /// non-Hertzian contact theory.
+    Floor,
+}
+
+/// Relative curvature floor of [`NonHertzianPolicy::Floor`] (1/m).
+pub const NON_HERTZIAN_FLOOR_1_M: f64 = 0.05;
+
+impl std::str::FromStr for NonHertzianPolicy {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "stop" => Ok(Self::Stop),
+            "floor" => Ok(Self::Floor),
+            other => Err(format!(
+                "non-Hertzian policy '{other}' is not stop or floor"
+            )),
+        }
+    }
 }
 
 impl Default for ContactForceSettings {
@@ -99,6 +145,7 @@ impl Default for ContactForceSettings {
             creep_law: CreepLaw::default(),
             normal: NormalForceModel::default(),
             creepage: CreepageOptions::default(),
+            non_hertzian: NonHertzianPolicy::Stop,
         }
     }
 }
@@ -325,6 +372,36 @@ pub struct ContactForce {
     pub moment_on_wheel_nm: Vector3<f64>,
     /// Where the force acts: the wheel's contact point (m, global).
     pub point_m: Vector3<f64>,
+    /// The geometry was non-Hertzian and the ellipse comes from the floored
+    /// curvatures ([`NonHertzianPolicy::Floor`]).
+    pub hertz_fallback: bool,
+}
+
+/// The Hertz shape of a contact under `policy`: the exact one, or with
+/// [`NonHertzianPolicy::Floor`] the floored one where the geometry is not
+/// Hertzian (the flag says which).
+pub fn hertz_shape_with_policy(
+    c: &Candidate,
+    policy: NonHertzianPolicy,
+) -> Result<(HertzShape, bool), ContactForceError> {
+    match hertz_shape(c) {
+        Ok(shape) => Ok((shape, false)),
+        Err(ContactForceError::Hertz {
+            source: HertzError::NonHertzian { .. } | HertzError::CurvatureRatioOutOfRange { .. },
+            ..
+        }) if policy == NonHertzianPolicy::Floor => {
+            let (a, b) = relative_curvatures_1_m(c);
+            let shape =
+                HertzShape::new(a.max(NON_HERTZIAN_FLOOR_1_M), b.max(NON_HERTZIAN_FLOOR_1_M))
+                    .map_err(|source| ContactForceError::Hertz {
+                        side: c.side,
+                        zone: c.zone,
+                        source,
+                    })?;
+            Ok((shape, true))
+        }
+        Err(e) => Err(e),
+    }
 }
 
 /// Step c–e of the paper's algorithm for one contact: creepages, normal
@@ -339,7 +416,7 @@ pub fn evaluate_contact(
     if !c.in_contact() {
         return Ok(None);
     }
-    let shape = hertz_shape(c)?;
+    let (shape, hertz_fallback) = hertz_shape_with_policy(c, settings.non_hertzian)?;
     let creepages = contact_creepages(settings, c, motion)?;
     let normal = settings
         .normal
@@ -362,5 +439,82 @@ pub fn evaluate_contact(
         force_on_wheel_n: c.normal * normal.force_n + c.tangent * f.fx_n + c.lateral * f.fy_n,
         moment_on_wheel_nm: c.normal * f.mz_nm,
         point_m: c.wheel_point,
+        hertz_fallback,
     }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::{Curvatures, SolveMethod, SurfaceParams};
+
+    /// A tread contact with the given lateral curvatures (1/m) of wheel
+    /// and rail on a 0.43 m wheel.
+    fn candidate(wheel_lateral_1_m: f64, rail_lateral_1_m: f64) -> Candidate {
+        Candidate {
+            side: Side::Right,
+            zone: Zone::Tread,
+            segment: 0,
+            params: SurfaceParams {
+                s_rail_m: 0.0,
+                u_rail_m: 0.0,
+                s_wheel_rad: 0.0,
+                u_wheel_m: 0.0,
+            },
+            iterations: 1,
+            cold_start: false,
+            method: SolveMethod::Newton,
+            penetration_m: 1e-5,
+            wheel_point: Vector3::zeros(),
+            rail_point: Vector3::zeros(),
+            normal: Vector3::z(),
+            tangent: Vector3::x(),
+            lateral: Vector3::y(),
+            contact_angle_rad: 0.0,
+            rolling_radius_m: 0.43,
+            curvatures: Curvatures {
+                wheel_rolling_1_m: 1.0 / 0.43,
+                wheel_lateral_1_m,
+                rail_rolling_1_m: 0.0,
+                rail_lateral_1_m,
+            },
+            wheel_profile_point_m: (0.0, 0.0),
+            rail_profile_point_m: (0.0, 0.0),
+        }
+    }
+
+    #[test]
+    fn non_hertzian_contact_stops_or_falls_back_flagged() {
+        // A hollow tread of radius 290 mm on a 300 mm rail head: B < 0.
+        let c = candidate(-1.0 / 0.29, 1.0 / 0.3);
+        let e = hertz_shape_with_policy(&c, NonHertzianPolicy::Stop).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                ContactForceError::Hertz {
+                    side: Side::Right,
+                    zone: Zone::Tread,
+                    source: HertzError::NonHertzian { .. }
+                }
+            ),
+            "{e}"
+        );
+        let (shape, flagged) = hertz_shape_with_policy(&c, NonHertzianPolicy::Floor).unwrap();
+        assert!(flagged);
+        assert_eq!(shape.b_curv_1_m(), NON_HERTZIAN_FLOOR_1_M);
+        assert_eq!(shape.a_curv_1_m(), 0.5 / 0.43);
+        // The floored ellipse under 10 kN of steel: 7.6 times wider than long.
+        let (a, b) = shape.semi_axes_m(1e4, &crate::hertz::Material::default());
+        assert!((b / a - 7.600).abs() < 0.005, "b/a = {}", b / a);
+        assert!((b - 0.01264).abs() < 1e-4, "b = {b}");
+        // Hertzian geometry is never touched, whatever the policy.
+        let ok = candidate(0.0, 1.0 / 0.3);
+        for p in [NonHertzianPolicy::Stop, NonHertzianPolicy::Floor] {
+            let (shape, flagged) = hertz_shape_with_policy(&ok, p).unwrap();
+            assert!(!flagged);
+            assert_eq!(shape.b_curv_1_m(), 0.5 / 0.3);
+        }
+        assert_eq!("Floor".parse(), Ok(NonHertzianPolicy::Floor));
+        assert!("clamp".parse::<NonHertzianPolicy>().is_err());
+    }
 }

@@ -47,7 +47,7 @@ fn zone(k: usize, seed: f64, in_contact: bool) -> ZoneSample {
         y_rail_m: v(11.0),
         contact_angle_rad: v(12.0),
         lead_m: v(13.0),
-        fallback: k % 11 == 0,
+        fallback: (k % 4) as u8,
     }
 }
 
@@ -440,6 +440,15 @@ fn results_y_over_q_sign_and_old_files() {
     let right = &r.wheelsets[0].wheels[1];
     assert_eq!(right.y_over_q[0], 3000.0 / 40e3);
     assert!(left.y_over_q[1].is_nan(), "no contact: NaN");
+    // Fallback flags are bits 1 and 2; anything else is refused.
+    let mut bad = r.clone();
+    bad.wheelsets[0].wheels[0].zones[1].fallback[1] = 4;
+    assert!(matches!(
+        bad.validate(),
+        Err(ResultsError::FlagValue { value: 4, .. })
+    ));
+    bad.wheelsets[0].wheels[0].zones[1].fallback[1] = 3;
+    assert!(bad.validate().is_ok());
     assert_eq!(left.max_y_over_q(), Some(0.42));
 
     // A version-1 file written before y_n, q_n, y_over_q, lead_m and

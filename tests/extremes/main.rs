@@ -10,6 +10,7 @@
 mod bad_input;
 #[path = "../common/mod.rs"]
 mod common;
+mod contact;
 mod fuzz;
 mod motion;
 mod track;

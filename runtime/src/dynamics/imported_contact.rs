@@ -408,6 +408,7 @@ pub fn imported_force(
         force_on_wheel_n: c.normal * n + c.tangent * creep.fx_n + c.lateral * creep.fy_n,
         moment_on_wheel_nm: Vector3::zeros(),
         point_m: c.wheel_point,
+        hertz_fallback: false,
     }))
 }
 

@@ -11,7 +11,10 @@ use super::track_motion::track_rotation;
 use crate::contact::SolveMethod;
 use crate::contact::nadal::NadalLimit;
 use crate::profile::{MAX_SEGMENTS, Zone};
-use crate::schema::results::{RunResults, WheelSample, WheelsetSample, ZoneSample};
+use crate::schema::results::{
+    FALLBACK_HERTZ_FLOOR, FALLBACK_MINIMISATION, RunResults, WheelSample, WheelsetSample,
+    ZoneSample,
+};
 use crate::track::Side;
 
 /// Collects the samples of a run.
@@ -129,13 +132,7 @@ impl Recorder {
                         y_rail_m: c.rail_profile_point_m.0,
                         contact_angle_rad: c.contact_angle_rad,
                         lead_m: c.lead_m(),
-                        fallback: (0..MAX_SEGMENTS).any(|seg| {
-                            snap.contacts.candidates[k][seg].is_some_and(|cc| {
-                                cc.zone == zone
-                                    && cc.in_contact()
-                                    && cc.method == SolveMethod::Minimisation
-                            })
-                        }),
+                        fallback: zone_fallbacks(snap, k, zone),
                     };
                 }
                 wheels[k] = WheelSample {
@@ -166,6 +163,25 @@ fn side_index(side: Side) -> usize {
         Side::Left => 0,
         Side::Right => 1,
     }
+}
+
+/// The fallback bits ([`FALLBACK_MINIMISATION`], [`FALLBACK_HERTZ_FLOOR`])
+/// of the zone's pieces in contact.
+fn zone_fallbacks(snap: &WheelsetSnapshot, k: usize, zone: Zone) -> u8 {
+    let mut bits = 0;
+    for seg in 0..MAX_SEGMENTS {
+        if let (Some(c), Some(f)) = (snap.contacts.candidates[k][seg], snap.forces[k][seg])
+            && c.zone == zone
+        {
+            if c.method == SolveMethod::Minimisation {
+                bits |= FALLBACK_MINIMISATION;
+            }
+            if f.hertz_fallback {
+                bits |= FALLBACK_HERTZ_FLOOR;
+            }
+        }
+    }
+    bits
 }
 
 /// The zone's piece in contact carrying the largest normal force.

@@ -72,6 +72,69 @@ const CURVATURE_WINDOW_M: f64 = 0.002;
 const MIN_END_SEGMENT_M: f64 = 0.010;
 const FIELD_SIDE_M: f64 = 0.040;
 
+/// How much lower than the kept profile's lowest point the file's lowest
+/// point may lie before the trimming is said to have cut the flange off (m).
+const FLANGE_LOST_TOLERANCE_M: f64 = 0.001;
+
+/// The trimming of steep faces ([`super::internal_points`] keeps the longest
+/// stretch with faces no steeper than the trim angle) must not cut away the
+/// flange: a flank steeper than the trim angle between the tread and the
+/// tip would otherwise leave a wheel without its flange — silently, when
+/// the tread holds most of the points — and the wheelset would run through
+/// its rails. That is an error naming the tip and the steepest face.
+fn check_flange_kept(
+    path: &Path,
+    points_file_m: &[[f64; 2]],
+    mapping: &FileMapping,
+    kept_u: &[f64],
+    kept_z: &[f64],
+    trim_angle_rad: f64,
+) -> Result<(), ProfileError> {
+    let all: Vec<(f64, f64)> = points_file_m
+        .iter()
+        .map(|p| mapping.from_file(p[0], p[1]))
+        .collect();
+    let Some(&(tip_u, tip_z)) = all.iter().min_by(|a, b| a.1.total_cmp(&b.1)) else {
+        return Ok(());
+    };
+    let kept_min = kept_z.iter().copied().fold(f64::INFINITY, f64::min);
+    if tip_z >= kept_min - FLANGE_LOST_TOLERANCE_M || !tip_z.is_finite() {
+        return Ok(());
+    }
+    // The steepest face between the kept stretch and the tip.
+    let (lo, hi) = if tip_u > kept_u[kept_u.len() - 1] {
+        (kept_u[kept_u.len() - 1], tip_u)
+    } else {
+        (tip_u, kept_u[0])
+    };
+    let mut sorted = all.clone();
+    sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let steepest = sorted
+        .windows(2)
+        .filter(|w| w[0].0 >= lo && w[1].0 <= hi && w[1].0 > w[0].0)
+        .map(|w| (((w[1].1 - w[0].1) / (w[1].0 - w[0].0)).abs().atan(), w[0]))
+        .max_by(|a, b| a.0.total_cmp(&b.0));
+    let (tip_y, tip_zf) = mapping.to_file(tip_u, tip_z);
+    let face = steepest.map_or(String::new(), |(angle, (u, z))| {
+        let (y, _) = mapping.to_file(u, z);
+        format!(
+            ", up to {:.1}° near file y = {:.2} mm",
+            angle.to_degrees(),
+            y * 1e3
+        )
+    });
+    Err(ProfileError::Invalid {
+        path: path.to_path_buf(),
+        rule: format!(
+            "the flange tip (file y = {:.2} mm, z = {:.2} mm) lies beyond faces steeper than {:.0}°{face}: the profile would lose its flange. A flank that steep puts the contact normal within {:.0}° of horizontal, outside the contact model (raise the trim angle only for a profile whose flank really is that steep)",
+            tip_y * 1e3,
+            tip_zf * 1e3,
+            trim_angle_rad.to_degrees(),
+            90.0 - trim_angle_rad.to_degrees(),
+        ),
+    })
+}
+
 /// The two contact zones of a wheel (paper §4.3).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Zone {
@@ -167,6 +230,14 @@ impl WheelProfile {
             points_file_m,
             z_down,
             options.taping_line_y_m,
+            options.trim_angle_rad,
+        )?;
+        check_flange_kept(
+            path,
+            points_file_m,
+            &mapping,
+            &u,
+            &z,
             options.trim_angle_rad,
         )?;
         let (u0, u1) = (u[0], u[u.len() - 1]);

@@ -57,9 +57,11 @@
 //!             lead_m             f64, lead of the contact point: its distance ahead of the
 //!                                axle along the wheelset's forward direction, r·sin s_w
 //!                                (m; < 0: lag)
-//!             fallback           u8, 1 when the contact came from the minimisation
-//!                                fallback (nearly conformal contact, Newton's Jacobian
-//!                                singular; `runtime::contact`), else 0
+//!             fallback           u8, bit flags of the documented fallbacks the contact
+//!                                went through: 1 = contact point from the minimisation
+//!                                fallback (nearly conformal, Newton's Jacobian singular;
+//!                                `runtime::contact`), 2 = non-Hertzian geometry, ellipse
+//!                                from floored curvatures (`NonHertzianPolicy::Floor`); 0 none
 //! ```
 //!
 //! Every dataset has the same length n as `/time_s`, a `units` attribute
@@ -216,8 +218,8 @@ pub struct ZoneSeries {
     /// Lead of the contact point ahead of the axle along the wheelset's
     /// forward direction (m), r·sin s_w; negative: lag.
     pub lead_m: Vec<f64>,
-    /// 1 when the contact came from the minimisation fallback (nearly
-    /// conformal contact), else 0.
+    /// Bit flags of the fallbacks ([`FALLBACK_MINIMISATION`],
+    /// [`FALLBACK_HERTZ_FLOOR`]); 0 none.
     pub fallback: Vec<u8>,
 }
 
@@ -239,9 +241,17 @@ pub struct ZoneSample {
     pub y_rail_m: f64,
     pub contact_angle_rad: f64,
     pub lead_m: f64,
-    /// The contact came from the minimisation fallback.
-    pub fallback: bool,
+    /// Bit flags of the fallbacks ([`FALLBACK_MINIMISATION`],
+    /// [`FALLBACK_HERTZ_FLOOR`]); 0 none.
+    pub fallback: u8,
 }
+
+/// [`ZoneSeries::fallback`] bit: the contact point came from the
+/// minimisation fallback of the contact search (nearly conformal contact).
+pub const FALLBACK_MINIMISATION: u8 = 1;
+/// [`ZoneSeries::fallback`] bit: non-Hertzian geometry, the ellipse from
+/// floored curvatures (`crate::contact_force::NonHertzianPolicy::Floor`).
+pub const FALLBACK_HERTZ_FLOOR: u8 = 2;
 
 impl ZoneSample {
     /// A zone out of contact: flag 0, every value NaN.
@@ -260,7 +270,7 @@ impl ZoneSample {
         y_rail_m: f64::NAN,
         contact_angle_rad: f64::NAN,
         lead_m: f64::NAN,
-        fallback: false,
+        fallback: 0,
     };
 }
 
@@ -311,7 +321,9 @@ pub enum ResultsError {
         previous: f64,
         value: f64,
     },
-    #[error("flag series {series} holds {value} at sample {index}; flags are 0 or 1")]
+    #[error(
+        "flag series {series} holds {value} at sample {index}; flags are 0 or 1 (fallback: bits 1 and 2)"
+    )]
     FlagValue {
         series: String,
         index: usize,
@@ -382,7 +394,7 @@ const IN_CONTACT: Field = field(
 const FALLBACK: Field = field(
     "fallback",
     "1",
-    "1 when the contact came from the minimisation fallback (nearly conformal contact, Newton's Jacobian singular), else 0",
+    "bit flags of the fallbacks: 1 = contact point from the minimisation fallback (nearly conformal contact, Newton's Jacobian singular), 2 = non-Hertzian geometry, ellipse from floored relative curvatures (non_hertzian = floor); 0 none",
 );
 
 /// The per-wheel f64 datasets, in the order of [`WheelSeries::quotient_columns`].
@@ -520,7 +532,7 @@ impl ZoneSeries {
             &ZoneSample::NO_CONTACT
         };
         self.in_contact.push(u8::from(s.in_contact));
-        self.fallback.push(u8::from(s.fallback));
+        self.fallback.push(s.fallback);
         let values = [
             s.normal_n,
             s.fx_n,
@@ -560,7 +572,7 @@ impl ZoneSeries {
             y_rail_m: v(10),
             contact_angle_rad: v(11),
             lead_m: v(12),
-            fallback: self.fallback.get(i).is_some_and(|&f| f != 0),
+            fallback: self.fallback.get(i).copied().unwrap_or(0),
         })
     }
 }
@@ -778,7 +790,16 @@ impl RunResults {
                 for (zone, zg) in wheel.zones.iter().zip(ZONE_GROUPS) {
                     let g = format!("{g}/{zg}");
                     check_flags(&|| format!("{g}/{}", IN_CONTACT.name), &zone.in_contact)?;
-                    check_flags(&|| format!("{g}/{}", FALLBACK.name), &zone.fallback)?;
+                    let series = || format!("{g}/{}", FALLBACK.name);
+                    check_len(&series, zone.fallback.len())?;
+                    let all = FALLBACK_MINIMISATION | FALLBACK_HERTZ_FLOOR;
+                    if let Some(index) = zone.fallback.iter().position(|&f| f & !all != 0) {
+                        return Err(ResultsError::FlagValue {
+                            series: series(),
+                            index,
+                            value: zone.fallback[index],
+                        });
+                    }
                     for (f, col) in ZONE_F64.iter().zip(zone.columns()) {
                         check_len(&|| format!("{g}/{}", f.name), col.len())?;
                     }

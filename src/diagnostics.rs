@@ -1,0 +1,705 @@
+//! Diagnostics of `sim run` where the model leaves its validity, and the
+//! derailment quotient of every wheel.
+//!
+//! - **Failures** (a contact whose equations do not converge, non-Hertzian
+//!   or nearly conformal geometry, a derailment, a non-finite state, a
+//!   wheelset off the track tables): the run stops, the results so far are
+//!   written (`crate::run`), and the error names the time, the wheelset,
+//!   the wheel and zone where there is one, and the **state** of the
+//!   wheelset at the failing evaluation — lateral displacement, yaw, roll,
+//!   height, forward and lateral speed, track distance. The state is taken
+//!   from the last state the integrator (or the output sampler) handed to
+//!   the system ([`Watched`]), which is the one that failed.
+//! - **Fallbacks** the run continues through, counted per evaluation and
+//!   per recorded sample and flagged per zone in the results (`fallback`,
+//!   bit flags): contact points from the minimisation fallback of the
+//!   contact search where Newton's Jacobian is singular (nearly conformal
+//!   contact; `runtime::contact::ContactOptions`, always on), and, with
+//!   `[contact] non_hertzian = "floor"`, ellipses from floored curvatures
+//!   where the geometry is not Hertzian
+//!   (`runtime::contact_force::NonHertzianPolicy`; the default `stop` ends
+//!   the run with the diagnostic instead).
+//! - **Nadal's criterion** per wheel ([`runtime::contact::nadal`]): the
+//!   largest Y/Q of the samples and of its sliding mean over 2 m of track
+//!   (EN 14363 judges the quotient so: an impact's spike of a few
+//!   milliseconds does not climb a flange), the wheel's limit
+//!   (tan γ − μ)/(1 + μ tan γ) for its steepest flange angle γ, the time
+//!   spent above it, and a "derailment risk" flag when the 2 m mean
+//!   exceeds the limit — or, for a run shorter than 2 m (or at
+//!   standstill), when any sample does.
+//!
+//! The integrator's step and rejection counts and the fallback counts are
+//! also written as root attributes of the results file
+//! ([`run_attributes`]).
+
+use std::ops::{Deref, DerefMut};
+
+use runtime::body::BodyState;
+use runtime::contact::ContactError;
+use runtime::contact_force::ContactForceError;
+use runtime::dynamics::track_motion::{project_s, track_relative, track_rotation};
+use runtime::dynamics::{DynamicsError, VehicleSystem};
+use runtime::hertz::HertzError;
+use runtime::integrator::{Control, IntegrationStats, IntegratorError, OdeSystem};
+use runtime::schema::results::{WHEEL_GROUPS, WheelsetSeries};
+use serde::Serialize;
+
+/// A [`VehicleSystem`] that remembers the last state it was evaluated at
+/// (the integrator's stages through [`OdeSystem::rhs`], the output samples
+/// through [`Watched::note`]), so that a failure can report it.
+pub struct Watched<'s, 'a> {
+    system: &'s mut VehicleSystem<'a>,
+    last_t_s: f64,
+    last_y: Vec<f64>,
+    /// Contacts whose ellipse came from the non-Hertzian floor, summed over
+    /// the right-hand-side evaluations.
+    hertz_floor_evaluations: u64,
+}
+
+impl<'s, 'a> Watched<'s, 'a> {
+    pub fn new(system: &'s mut VehicleSystem<'a>) -> Self {
+        Self {
+            system,
+            last_t_s: f64::NAN,
+            last_y: Vec::new(),
+            hertz_floor_evaluations: 0,
+        }
+    }
+
+    /// Contacts evaluated with the non-Hertzian floor (every evaluation of
+    /// the right-hand side, integrator stages included).
+    pub fn hertz_floor_evaluations(&self) -> u64 {
+        self.hertz_floor_evaluations
+    }
+
+    /// Remember (t, y) as the state about to be evaluated.
+    pub fn note(&mut self, t_s: f64, y: &[f64]) {
+        self.last_t_s = t_s;
+        self.last_y.clear();
+        self.last_y.extend_from_slice(y);
+    }
+
+    /// The last state evaluated (time s, state), if any.
+    pub fn last_state(&self) -> Option<(f64, &[f64])> {
+        (!self.last_y.is_empty()).then_some((self.last_t_s, self.last_y.as_slice()))
+    }
+
+    /// The diagnostic of a failed integration at the last state.
+    pub fn diagnose(&self, error: &IntegratorError<DynamicsError>) -> RunDiagnostic {
+        diagnose(error, self.system, self.last_state())
+    }
+}
+
+impl<'a> Deref for Watched<'_, 'a> {
+    type Target = VehicleSystem<'a>;
+    fn deref(&self) -> &Self::Target {
+        self.system
+    }
+}
+
+impl DerefMut for Watched<'_, '_> {
+    fn deref_mut(&mut self) -> &mut Self::Target {
+        self.system
+    }
+}
+
+impl OdeSystem for Watched<'_, '_> {
+    type Error = DynamicsError;
+
+    fn rhs(&mut self, t: f64, y: &[f64], dydt: &mut [f64]) -> Result<(), DynamicsError> {
+        self.note(t, y);
+        self.system.rhs(t, y, dydt)?;
+        self.hertz_floor_evaluations += self
+            .system
+            .snapshots()
+            .iter()
+            .flat_map(|s| s.forces.iter().flatten().flatten())
+            .filter(|f| f.hertz_fallback)
+            .count() as u64;
+        Ok(())
+    }
+
+    fn accept(&mut self, t: f64, y: &[f64]) -> Result<Control, DynamicsError> {
+        self.system.accept(t, y)
+    }
+}
+
+/// Where a wheelset is relative to the track at one state (SPEC §1 signs).
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct WheelsetState {
+    pub name: String,
+    /// Track distance of the centre (m).
+    pub s_m: f64,
+    /// Lateral displacement from the centreline (mm), + left.
+    pub lateral_mm: f64,
+    /// Yaw relative to the track (mrad), + nose left.
+    pub yaw_mrad: f64,
+    /// Roll relative to the track (mrad), + raising the left wheel.
+    pub roll_mrad: f64,
+    /// Height of the centre above the rail-top plane (mm).
+    pub height_mm: f64,
+    /// Velocity of the centre along the track (m/s) and across it (m/s, + left).
+    pub forward_speed_m_s: f64,
+    pub lateral_speed_m_s: f64,
+}
+
+impl WheelsetState {
+    /// "y = +7.12 mm, yaw = +3.20 mrad, …".
+    pub fn to_text(&self) -> String {
+        format!(
+            "y = {:+.3} mm, yaw = {:+.3} mrad, roll = {:+.3} mrad, height = {:.3} mm, forward speed = {:.3} m/s, lateral speed = {:+.4} m/s, s = {:.3} m",
+            self.lateral_mm,
+            self.yaw_mrad,
+            self.roll_mrad,
+            self.height_mm,
+            self.forward_speed_m_s,
+            self.lateral_speed_m_s,
+            self.s_m
+        )
+    }
+}
+
+/// The state of wheelset `i` in the system state `y` (13 variables per
+/// body, wheelsets first), or `None` when it cannot be placed on the track
+/// (off the tables, non-finite).
+pub fn wheelset_state(system: &VehicleSystem<'_>, i: usize, y: &[f64]) -> Option<WheelsetState> {
+    let w = system.vehicle().wheelsets.get(i)?;
+    let slot = y.get(13 * i..13 * i + 13)?;
+    if slot.iter().any(|v| !v.is_finite()) {
+        return None;
+    }
+    let st = BodyState::read_from(slot);
+    let c = &system.track().centerline;
+    let guess = system
+        .snapshots()
+        .get(i)
+        .map(|s| s.relative.s_m)
+        .filter(|s| *s != 0.0)
+        .unwrap_or(system.settings().s_start_m + w.x_m);
+    let s = project_s(c, &st.position_m, guess).ok()?;
+    let axle = st.rotation().column(1).into_owned();
+    let r = track_relative(c, s, &st.position_m, &axle, &st.velocity_m_s).ok()?;
+    let n = track_rotation(c, s).ok()?.column(1).into_owned();
+    Some(WheelsetState {
+        name: w.name.clone(),
+        s_m: r.s_m,
+        lateral_mm: r.lateral_m * 1e3,
+        yaw_mrad: r.yaw_rad * 1e3,
+        roll_mrad: r.roll_rad * 1e3,
+        height_mm: r.vertical_m * 1e3,
+        forward_speed_m_s: r.forward_speed_m_s,
+        lateral_speed_m_s: st.velocity_m_s.dot(&n),
+    })
+}
+
+/// Why and where a run failed, with the state there.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct RunDiagnostic {
+    /// What went wrong, in a few words ("non-Hertzian contact", …).
+    pub kind: String,
+    /// Time of the failing evaluation (s).
+    pub t_s: f64,
+    pub wheelset: Option<String>,
+    /// "left" / "right".
+    pub wheel: Option<String>,
+    /// "tread" / "flange".
+    pub zone: Option<String>,
+    /// The named wheelset's state, or every wheelset's when none is named.
+    pub states: Vec<WheelsetState>,
+    /// The error itself.
+    pub detail: String,
+}
+
+impl RunDiagnostic {
+    /// One line: kind, time, wheelset/wheel/zone, state.
+    pub fn headline(&self) -> String {
+        let mut s = format!("{} at t = {:.6} s", self.kind, self.t_s);
+        if let Some(w) = &self.wheelset {
+            s += &format!(", wheelset '{w}'");
+        }
+        if let Some(w) = &self.wheel {
+            s += &format!(", {w} wheel");
+        }
+        if let Some(z) = &self.zone {
+            s += &format!(", {z}");
+        }
+        for st in &self.states {
+            s += &format!("; state of '{}': {}", st.name, st.to_text());
+        }
+        if self.states.is_empty() {
+            s += "; state unavailable (not finite or off the track tables)";
+        }
+        s
+    }
+}
+
+/// What a dynamics error names: kind, time (s), wheelset, and (wheel,
+/// zone).
+type Classified = (
+    String,
+    Option<f64>,
+    Option<String>,
+    Option<(String, String)>,
+);
+
+/// Kind, time, wheelset, wheel and zone named by a dynamics error.
+fn classify(e: &DynamicsError) -> Classified {
+    let place = |side: &runtime::track::Side, zone: &runtime::profile::Zone| {
+        Some((side.name().to_string(), zone.name().to_string()))
+    };
+    match e {
+        DynamicsError::Contact {
+            wheelset,
+            t_s,
+            source,
+        } => {
+            let (kind, at) = match source {
+                ContactError::NotConverged { side, zone, .. } => (
+                    "contact equations did not converge (Newton, every start)",
+                    place(side, zone),
+                ),
+                ContactError::Track(_) => ("contact point off the track tables", None),
+                ContactError::Setup(_) => ("contact search set-up", None),
+            };
+            (kind.into(), Some(*t_s), Some(wheelset.clone()), at)
+        }
+        DynamicsError::Force {
+            wheelset,
+            t_s,
+            source,
+        } => {
+            let (kind, at) = match source {
+                ContactForceError::Hertz { side, zone, source } => (
+                    match source {
+                        HertzError::NonHertzian { .. } => {
+                            "non-Hertzian contact (A <= 0 or B <= 0: conformal or concave)"
+                        }
+                        HertzError::CurvatureRatioOutOfRange { .. } => {
+                            "nearly conformal contact beyond the Hertz range"
+                        }
+                        HertzError::NonFiniteCurvature { .. } => "non-finite contact curvature",
+                        _ => "Hertz contact",
+                    },
+                    place(side, zone),
+                ),
+                ContactForceError::Normal { side, zone, .. } => {
+                    ("normal contact force", place(side, zone))
+                }
+                ContactForceError::Creepage { side, zone, .. } => ("creepages", place(side, zone)),
+                ContactForceError::Creep { side, zone, .. } => ("creep forces", place(side, zone)),
+                ContactForceError::InvalidSetting { .. } => ("contact force setting", None),
+            };
+            (kind.into(), Some(*t_s), Some(wheelset.clone()), at)
+        }
+        DynamicsError::Derailed { wheelset, t_s, .. } => (
+            "derailed (lateral displacement beyond the limit)".into(),
+            Some(*t_s),
+            Some(wheelset.clone()),
+            None,
+        ),
+        DynamicsError::Track { t_s, .. } => ("off the track tables".into(), Some(*t_s), None, None),
+        DynamicsError::Assembly { wheelset, .. } => {
+            ("assembly".into(), None, Some(wheelset.clone()), None)
+        }
+        other => (format!("{other}"), None, None, None),
+    }
+}
+
+/// The diagnostic of a failed integration, `last` the last state the system
+/// was evaluated at (time s, state).
+pub fn diagnose(
+    error: &IntegratorError<DynamicsError>,
+    system: &VehicleSystem<'_>,
+    last: Option<(f64, &[f64])>,
+) -> RunDiagnostic {
+    let (kind, t, wheelset, at) = match error {
+        IntegratorError::System(e) => classify(e),
+        IntegratorError::NonFinite { t, component } => (
+            format!("non-finite state or derivative (component {component})"),
+            Some(*t),
+            None,
+            None,
+        ),
+        IntegratorError::StepSizeTooSmall { t, .. } => {
+            ("step size below the minimum".into(), Some(*t), None, None)
+        }
+        IntegratorError::TooManySteps { t, .. } => {
+            ("step limit reached".into(), Some(*t), None, None)
+        }
+        IntegratorError::InvalidSettings { .. } => ("integrator setting".into(), None, None, None),
+    };
+    let t_s = t.or(last.map(|(t, _)| t)).unwrap_or(f64::NAN);
+    let names: Vec<&str> = system
+        .vehicle()
+        .wheelsets
+        .iter()
+        .map(|w| w.name.as_str())
+        .collect();
+    let which: Vec<usize> = match &wheelset {
+        Some(name) => names.iter().position(|n| n == name).into_iter().collect(),
+        None => (0..names.len()).collect(),
+    };
+    let states = match last {
+        Some((_, y)) => which
+            .iter()
+            .filter_map(|&i| wheelset_state(system, i, y))
+            .collect(),
+        None => Vec::new(),
+    };
+    let (wheel, zone) = match at {
+        Some((w, z)) => (Some(w), Some(z)),
+        None => (None, None),
+    };
+    RunDiagnostic {
+        kind,
+        t_s,
+        wheelset,
+        wheel,
+        zone,
+        states,
+        detail: format!("{error}"),
+    }
+}
+
+/// Length of track over which Y/Q is averaged for the derailment flag (m),
+/// EN 14363.
+pub const NADAL_WINDOW_M: f64 = 2.0;
+
+/// Nadal's criterion for one wheel of a run (module docs).
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct WheelNadal {
+    /// "left" / "right".
+    pub wheel: String,
+    /// Largest Y/Q of the samples (Y + towards the track centre), and when.
+    pub max_y_over_q: Option<f64>,
+    pub max_at_s: Option<f64>,
+    /// Largest sliding mean of Y/Q over [`NADAL_WINDOW_M`] of travel (the
+    /// samples with contact in the trailing window); `None` when the run
+    /// covers less than that.
+    pub max_y_over_q_2m: Option<f64>,
+    /// Steepest flange angle γ (deg), friction μ and the limit
+    /// (tan γ − μ)/(1 + μ tan γ); `None` for a wheel without a flange.
+    pub flange_angle_deg: Option<f64>,
+    pub friction: Option<f64>,
+    pub nadal_limit: Option<f64>,
+    /// Time with Y/Q above the limit (s, from the samples).
+    pub time_above_limit_s: f64,
+    /// The 2 m mean exceeded the limit (module docs).
+    pub derailment_risk: bool,
+}
+
+/// Largest trailing mean of the finite `values` over `window_m` of
+/// `distance_m` (non-decreasing), over the samples whose window is
+/// complete; `None` when none is.
+fn max_sliding_mean(values: &[f64], distance_m: &[f64], window_m: f64) -> Option<f64> {
+    let start = *distance_m.first()?;
+    let mut best: Option<f64> = None;
+    let mut lo = 0;
+    let (mut sum, mut count) = (0.0, 0usize);
+    for (i, (&v, &d)) in values.iter().zip(distance_m).enumerate() {
+        if v.is_finite() {
+            sum += v;
+            count += 1;
+        }
+        while lo < i && distance_m[lo] <= d - window_m {
+            if values[lo].is_finite() {
+                sum -= values[lo];
+                count -= 1;
+            }
+            lo += 1;
+        }
+        if d - start >= window_m && count > 0 {
+            let mean = sum / count as f64;
+            best = Some(best.map_or(mean, |b: f64| b.max(mean)));
+        }
+    }
+    best
+}
+
+/// Nadal's criterion for both wheels of a wheelset's series.
+pub fn nadal_summary(w: &WheelsetSeries, time_s: &[f64]) -> Vec<WheelNadal> {
+    let dt = |i: usize| match (time_s.get(i), time_s.get(i + 1)) {
+        (Some(a), Some(b)) => b - a,
+        _ => 0.0,
+    };
+    w.wheels
+        .iter()
+        .zip(WHEEL_GROUPS)
+        .map(|(wheel, name)| {
+            let max = wheel
+                .y_over_q
+                .iter()
+                .enumerate()
+                .filter(|(_, v)| v.is_finite())
+                .max_by(|a, b| a.1.total_cmp(b.1));
+            let limit = wheel.nadal.map(|n| n.limit);
+            let max_2m = max_sliding_mean(&wheel.y_over_q, &w.distance_m, NADAL_WINDOW_M);
+            let judged = max_2m.or(max.map(|(_, v)| *v));
+            let time_above_limit_s = match limit {
+                Some(l) => {
+                    0.0 + wheel
+                        .y_over_q
+                        .iter()
+                        .enumerate()
+                        .filter(|(_, v)| **v > l)
+                        .map(|(i, _)| dt(i))
+                        .sum::<f64>()
+                }
+                None => 0.0,
+            };
+            WheelNadal {
+                wheel: name.to_string(),
+                max_y_over_q: max.map(|(_, v)| *v),
+                max_at_s: max.and_then(|(i, _)| time_s.get(i).copied()),
+                flange_angle_deg: wheel.nadal.map(|n| n.flange_angle_rad.to_degrees()),
+                friction: wheel.nadal.map(|n| n.friction),
+                nadal_limit: limit,
+                time_above_limit_s,
+                max_y_over_q_2m: max_2m,
+                derailment_risk: matches!((judged, limit), (Some(m), Some(l)) if m > l),
+            }
+        })
+        .collect()
+}
+
+/// One line per wheelset: Y/Q against the limit.
+pub fn nadal_text(name: &str, wheels: &[WheelNadal]) -> String {
+    let mut s = format!("  wheelset {name}: max Y/Q");
+    for (k, w) in wheels.iter().enumerate() {
+        let mut value = w
+            .max_y_over_q
+            .map_or("—".to_string(), |v| format!("{v:.3}"));
+        if let Some(m) = w.max_y_over_q_2m {
+            value += &format!(" (2 m mean {m:.3})");
+        }
+        let limit = w.nadal_limit.map_or("no flange".to_string(), |l| {
+            format!(
+                "Nadal limit {l:.3} at {:.1}°, μ {}",
+                w.flange_angle_deg.unwrap_or(f64::NAN),
+                w.friction.unwrap_or(f64::NAN)
+            )
+        });
+        s += &format!(
+            "{} {} {value} ({limit})",
+            if k == 0 { "" } else { ";" },
+            w.wheel
+        );
+        if w.derailment_risk {
+            s += &format!(
+                " — DERAILMENT RISK: above the limit for {:.3} s",
+                w.time_above_limit_s
+            );
+        } else if w.time_above_limit_s > 0.0 {
+            s += &format!(
+                " — peaks above the limit for {:.3} s, 2 m mean below",
+                w.time_above_limit_s
+            );
+        }
+    }
+    s + "\n"
+}
+
+/// Fallbacks the run went through (module docs).
+#[derive(Debug, Clone, Copy, Serialize, PartialEq, Default)]
+pub struct FallbackCounts {
+    /// Contact solves answered by the minimisation fallback (every
+    /// evaluation, integrator stages included).
+    pub minimisation_solves: u64,
+    /// Contacts evaluated with the non-Hertzian curvature floor (every
+    /// evaluation of the right-hand side).
+    pub hertz_floor_evaluations: u64,
+    /// Recorded samples with at least one zone from each fallback.
+    pub samples_with_minimisation: u64,
+    pub samples_with_hertz_floor: u64,
+}
+
+impl FallbackCounts {
+    /// From the solvers' statistics, the evaluations counted by [`Watched`]
+    /// and the results' per-zone flags.
+    pub fn count(
+        minimisation_solves: u64,
+        hertz_floor_evaluations: u64,
+        results: &runtime::schema::results::RunResults,
+    ) -> Self {
+        use runtime::schema::results::{FALLBACK_HERTZ_FLOOR, FALLBACK_MINIMISATION};
+        let samples = |bit: u8| {
+            (0..results.len())
+                .filter(|&i| {
+                    results.wheelsets.iter().any(|w| {
+                        w.wheels.iter().any(|wh| {
+                            wh.zones
+                                .iter()
+                                .any(|z| z.fallback.get(i).is_some_and(|f| f & bit != 0))
+                        })
+                    })
+                })
+                .count() as u64
+        };
+        Self {
+            minimisation_solves,
+            hertz_floor_evaluations,
+            samples_with_minimisation: samples(FALLBACK_MINIMISATION),
+            samples_with_hertz_floor: samples(FALLBACK_HERTZ_FLOOR),
+        }
+    }
+
+    /// Any fallback at all.
+    pub fn any(&self) -> bool {
+        self.minimisation_solves + self.hertz_floor_evaluations > 0
+    }
+
+    /// One line for the text summary (empty without fallbacks).
+    pub fn to_text(&self) -> String {
+        if !self.any() {
+            return String::new();
+        }
+        format!(
+            "  fallbacks: {} contact solves from the minimisation fallback (nearly conformal; {} samples), {} contact evaluations with the non-Hertzian curvature floor ({} samples)\n",
+            self.minimisation_solves,
+            self.samples_with_minimisation,
+            self.hertz_floor_evaluations,
+            self.samples_with_hertz_floor
+        )
+    }
+}
+
+/// Root attributes of the results file with the integrator's and the
+/// contact search's counts (`stats` is `None` when the run failed: the
+/// accepted steps are then `accepted`), the fallbacks and the diagnostic.
+pub fn run_attributes(
+    stats: Option<&IntegrationStats>,
+    accepted: u64,
+    rhs_evaluations: u64,
+    contact_solves: u64,
+    fallbacks: &FallbackCounts,
+    diagnostic: Option<&RunDiagnostic>,
+) -> Vec<(String, String)> {
+    let mut a = vec![
+        (
+            "steps".to_string(),
+            stats.map_or(accepted, |s| s.steps).to_string(),
+        ),
+        (
+            "rejected_steps".to_string(),
+            stats.map_or("unknown (the run failed)".to_string(), |s| {
+                s.rejected.to_string()
+            }),
+        ),
+        ("rhs_evaluations".to_string(), rhs_evaluations.to_string()),
+        ("contact_solves".to_string(), contact_solves.to_string()),
+        (
+            "minimisation_fallbacks".to_string(),
+            fallbacks.minimisation_solves.to_string(),
+        ),
+        (
+            "non_hertzian_fallbacks".to_string(),
+            fallbacks.hertz_floor_evaluations.to_string(),
+        ),
+    ];
+    if let Some(s) = stats {
+        a.push(("min_step_s".into(), format!("{:e}", s.min_step_s)));
+        a.push(("max_step_s".into(), format!("{:e}", s.max_step_s)));
+    }
+    if let Some(d) = diagnostic {
+        a.push(("diagnostic".into(), d.headline()));
+    }
+    a
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sliding_mean_over_distance() {
+        // 0.5 m between samples: a window (d − 2 m, d] holds 4 samples.
+        let d: Vec<f64> = (0..10).map(|k| 0.5 * k as f64).collect();
+        let mut v = vec![1.0; 10];
+        v[6] = 6.0; // a spike: the windows holding it average (6 + 3·1)/4
+        v[2] = f64::NAN; // no contact: left out of its windows
+        let m = max_sliding_mean(&v, &d, 2.0).unwrap();
+        assert!((m - 2.25).abs() < 1e-12, "{m}");
+        // Shorter than the window: nothing to judge.
+        assert_eq!(max_sliding_mean(&v[..3], &d[..3], 2.0), None);
+        // Standstill: no window ever completes.
+        assert_eq!(max_sliding_mean(&v, &[0.0; 10], 2.0), None);
+    }
+
+    #[test]
+    fn headline_names_time_wheel_zone_and_state() {
+        let d = RunDiagnostic {
+            kind: "non-Hertzian contact".into(),
+            t_s: 0.7283,
+            wheelset: Some("front".into()),
+            wheel: Some("left".into()),
+            zone: Some("tread".into()),
+            states: vec![WheelsetState {
+                name: "front".into(),
+                s_m: 12.3,
+                lateral_mm: 0.031,
+                yaw_mrad: -3.6,
+                roll_mrad: 0.008,
+                height_mm: 429.6,
+                forward_speed_m_s: 10.0,
+                lateral_speed_m_s: -0.04,
+            }],
+            detail: "…".into(),
+        };
+        let h = d.headline();
+        for needle in [
+            "non-Hertzian contact at t = 0.728300 s",
+            "wheelset 'front'",
+            "left wheel",
+            "tread",
+            "y = +0.031 mm",
+            "yaw = -3.600 mrad",
+        ] {
+            assert!(h.contains(needle), "{needle} not in {h}");
+        }
+    }
+
+    #[test]
+    fn errors_are_classified_with_their_place() {
+        use runtime::contact::SurfaceParams;
+        use runtime::profile::Zone;
+        use runtime::track::Side;
+        let e = DynamicsError::Contact {
+            wheelset: "rear".into(),
+            t_s: 1.5,
+            source: ContactError::NotConverged {
+                side: Side::Right,
+                zone: Zone::Flange,
+                iterations: 25,
+                residual: 1e-3,
+                params: SurfaceParams {
+                    s_rail_m: 0.0,
+                    u_rail_m: 0.0,
+                    s_wheel_rad: 0.0,
+                    u_wheel_m: 0.0,
+                },
+                s_track_m: 10.0,
+                position_m: [0.0; 3],
+            },
+        };
+        let (kind, t, ws, at) = classify(&e);
+        assert!(kind.contains("did not converge"), "{kind}");
+        assert_eq!(t, Some(1.5));
+        assert_eq!(ws.as_deref(), Some("rear"));
+        assert_eq!(at, Some(("right".into(), "flange".into())));
+        let e = DynamicsError::Force {
+            wheelset: "front".into(),
+            t_s: 0.2,
+            source: ContactForceError::Hertz {
+                side: Side::Left,
+                zone: Zone::Tread,
+                source: HertzError::NonHertzian {
+                    a_curv_1_m: 1.16,
+                    b_curv_1_m: -0.01,
+                },
+            },
+        };
+        let (kind, _, _, at) = classify(&e);
+        assert!(kind.starts_with("non-Hertzian"), "{kind}");
+        assert_eq!(at, Some(("left".into(), "tread".into())));
+    }
+}
