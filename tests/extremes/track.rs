@@ -919,6 +919,11 @@ fn s_curve_r150_without_intermediate_straight() {
     let (h5, _) = build(&dir, "s_curve", &layout.csv, &[]);
     let tables = read_tables(&h5);
     let g = check_geometry("s_curve", &tables);
+    eprintln!(
+        "s_curve: largest turn of n between rows {:.2e} rad, frame error {:.1e}",
+        g.min_n_turn_cos.min(1.0).acos(),
+        g.frame_error
+    );
     assert!(
         g.min_n_turn_cos > (1e-3_f64).cos(),
         "n turns by {} rad between rows",
@@ -1171,7 +1176,8 @@ fn table_steps_from_1mm_to_5m() {
         fine * 1e3,
         coarse * 1e3
     );
-    assert!(fine < 1e-5, "1 mm and 0.1 m tables differ by {fine} m");
+    // Measured 0.0085 mm (the 0.1 m table's sagitta is 4.2 µm).
+    assert!(fine < 5e-5, "1 mm and 0.1 m tables differ by {fine} m");
 }
 
 /// Overshoot of the spline schemes at a sudden change of the control
