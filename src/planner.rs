@@ -853,32 +853,39 @@ pub fn plan(ls: &LoadedScene) -> Result<Plan> {
     // The linear check costs an assembly and a linearisation: only when the
     // planner decides and it can matter.
     let run_linear = geometric_ok && mode != Mode::Scene && (flange_chosen || method_chosen);
+    // A check that cannot be made is no reason to fail the run: the flange
+    // is then searched.
     let stability = if run_linear {
-        Some(hunting(ls, &vfile, &track, s_start)?)
+        Some(hunting(ls, &vfile, &track, s_start).map_err(|e| format!("{e:#}")))
     } else {
         None
     };
+    let checked = stability.is_some();
     let (no_flange_expected, flange_reason) = match (geometric_ok, stability) {
         (false, _) => (false, geometric_reason.clone()),
+        (true, Some(Err(e))) => (
+            false,
+            format!("{geometric_reason}, but the stability check failed: {e}"),
+        ),
         (true, None) => (
             false,
             format!(
                 "{geometric_reason}; the hunting mode's damping is checked only when the planner decides"
             ),
         ),
-        (true, Some(None)) => (
+        (true, Some(Ok(None))) => (
             false,
             format!(
                 "{geometric_reason}, but no hunting mode found at {v} m/s to check its damping"
             ),
         ),
-        (true, Some(Some((zeta, f)))) if zeta >= MIN_HUNTING_DAMPING => (
+        (true, Some(Ok(Some((zeta, f))))) if zeta >= MIN_HUNTING_DAMPING => (
             true,
             format!(
                 "{geometric_reason}; hunting mode damped at {v} m/s (ζ = {zeta:.3} ≥ {MIN_HUNTING_DAMPING}, {f:.2} Hz)"
             ),
         ),
-        (true, Some(Some((zeta, f)))) => (
+        (true, Some(Ok(Some((zeta, f))))) => (
             false,
             format!(
                 "{geometric_reason}, but the hunting mode at {v} m/s has ζ = {zeta:.3} < {MIN_HUNTING_DAMPING} ({f:.2} Hz): the motion may grow to the flange"
@@ -1054,7 +1061,7 @@ pub fn plan(ls: &LoadedScene) -> Result<Plan> {
             by: By::Scene,
             reason: format!(
                 "the planner {}: {flange_reason}",
-                if geometric_ok && stability.is_none() {
+                if geometric_ok && !checked {
                     "might choose off"
                 } else if no_flange_expected {
                     "would choose off"
@@ -1274,4 +1281,73 @@ pub fn guard_check(
             )
         })
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn steps_round_down_to_the_nice_ones() {
+        assert_eq!(nice_step_m(2.0), 1.0);
+        assert_eq!(nice_step_m(0.107), 0.1);
+        assert_eq!(nice_step_m(0.0483), 0.04);
+        assert_eq!(nice_step_m(0.001), FINEST_STEP_M);
+        // Every nice step divides 1 m (the rows of a range lie on the
+        // whole-track grid of any of them).
+        for h in NICE_STEPS_M {
+            let n = 1.0 / h;
+            assert!((n - n.round()).abs() < 1e-9, "{h}");
+        }
+    }
+
+    #[test]
+    fn the_guard_adds_the_yawed_flange_reach() {
+        let g = FlangeGuard {
+            threshold_m: 0.0028,
+            reach_per_rad_m: 0.155,
+        };
+        assert!(!g.trips(-0.002, 0.0));
+        assert!(g.trips(-0.0028, 0.0));
+        assert!(g.trips(0.002, -0.006), "2 mm + 6 mrad × 0.155 m = 2.93 mm");
+        assert!(!g.trips(0.002, 0.005), "2 mm + 0.78 mm");
+    }
+
+    #[test]
+    fn travel_follows_distance_duration_and_deceleration() {
+        let base = LoadedScene::default_scene(&[]).expect("default scene");
+        assert_eq!(travel_m(&base), 280.0);
+        let t = LoadedScene::default_scene(&["run.distance_m=".into(), "run.duration_s=2".into()])
+            .expect("duration");
+        assert!((travel_m(&t) - 20.0).abs() < 1e-12);
+        // 10 m/s braking at 2 m/s² for 10 s stops after 5 s and 25 m.
+        let d = LoadedScene::default_scene(&[
+            "run.distance_m=".into(),
+            "run.duration_s=10".into(),
+            "initial.deceleration_m_s2=2".into(),
+        ])
+        .expect("deceleration");
+        assert!((travel_m(&d) - 25.0).abs() < 1e-9, "{}", travel_m(&d));
+    }
+
+    #[test]
+    fn plan_sections_are_checked() {
+        let ok = PlanSection {
+            mode: "required".into(),
+            choose: vec!["flange".into(), "all".into()],
+        };
+        assert!(validate_section(&ok).is_ok());
+        for (mode, choose, what) in [
+            ("sometimes", vec![], "mode"),
+            ("required", vec!["integrator".to_string()], "integrator"),
+            ("scene", vec!["flange".to_string()], "choose"),
+        ] {
+            let e = validate_section(&PlanSection {
+                mode: mode.into(),
+                choose,
+            })
+            .unwrap_err();
+            assert!(format!("{e:#}").contains(what), "{e:#}");
+        }
+    }
 }
