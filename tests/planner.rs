@@ -306,7 +306,15 @@ fn sim_run_prints_the_block_and_the_planned_run_equals_the_full_model() {
         .args(ALL));
     assert!(o.status.success(), "{}", stderr(&o));
     let text = stdout(&o);
-    let block = text.split("\n\n").next().unwrap_or("");
+    // The block: its header and the indented lines under it, before the
+    // summary's title.
+    let block: Vec<&str> = text
+        .lines()
+        .enumerate()
+        .take_while(|(i, l)| *i == 0 || l.starts_with("  "))
+        .map(|(_, l)| l)
+        .collect();
+    let block = block.join("\n");
     assert!(text.starts_with("plan (mode required"), "{text}");
     for item in [
         "irregularities",
@@ -316,9 +324,16 @@ fn sim_run_prints_the_block_and_the_planned_run_equals_the_full_model() {
         "flange search",
         "creep law",
     ] {
-        assert!(block.contains(item), "{item} missing: {text}");
+        assert!(
+            block.lines().any(|l| l.starts_with(&format!("  {item} "))),
+            "{item} missing: {text}"
+        );
     }
-    assert!(text.contains("[planner]"), "{text}");
+    assert!(block.contains("[planner]"), "{text}");
+    assert!(
+        text.len() > block.len() + 100,
+        "the summary follows: {text}"
+    );
     let full = dir.join("full.h5");
     let o = run(sim()
         .env("RAILSIM_CACHE_DIR", &cache)
