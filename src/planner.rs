@@ -577,7 +577,9 @@ fn flange_facts(ls: &LoadedScene, v: &VehicleFile, track: &TrackTables) -> Resul
         done.push(&w.contact);
     }
     // Written atomically; a failure to cache is not an error.
-    let tmp = path.with_extension(format!("tmp{}", std::process::id()));
+    static WRITES: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let n = WRITES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let tmp = path.with_extension(format!("tmp{}-{n}", std::process::id()));
     if std::fs::write(&tmp, format!("{clearance:e} {reach:e}\n")).is_ok() {
         let _ = std::fs::rename(&tmp, &path);
     }
