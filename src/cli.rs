@@ -273,6 +273,15 @@ impl RunArgs {
             .output
             .clone()
             .unwrap_or_else(|| PathBuf::from(format!("{stem}.h5")));
+        // Refused before the run, not after it when the results are written.
+        if let Some(dir) = output.parent().filter(|d| !d.as_os_str().is_empty()) {
+            anyhow::ensure!(
+                dir.is_dir(),
+                "the results file {} cannot be written: the directory {} does not exist",
+                output.display(),
+                dir.display()
+            );
+        }
         let plots = if self.no_plots {
             None
         } else {

@@ -424,7 +424,9 @@ fn bad_profiles_name_the_file_and_the_line() {
 fn bad_track_csvs_through_sim_run() {
     let dir = scratch("extremes_bad_csv");
     let good = "x,y,z\n0,0,0\n10,0,0\n20,0,0\n30,0,0\n40,0,0\n";
-    let cases: [(&str, &str, Option<(&str, &str)>, &[&str]); 4] = [
+    // (case, centreline text, an extra input (scene key, text), expected)
+    type Case<'a> = (&'a str, &'a str, Option<(&'a str, &'a str)>, &'a [&'a str]);
+    let cases: [Case; 4] = [
         (
             "centerline_not_a_number",
             "x,y,z\n0,0,0\n10,0,0\n20,zz,0\n30,0,0\n",
@@ -718,9 +720,9 @@ fn track_preproc_cases_not_covered_elsewhere() {
     );
 }
 
-/// An output path whose directory does not exist: the error names it and
-/// nothing is left behind. (The run is simulated first and fails when
-/// writing; README "Extremes: track and input" proposes checking before.)
+/// An output path whose directory does not exist: refused before the run
+/// (it used to simulate the whole run and then fail to write), naming the
+/// directory; nothing is left behind.
 #[test]
 fn results_into_a_missing_directory() {
     let dir = scratch("extremes_bad_output");
@@ -736,10 +738,11 @@ fn results_into_a_missing_directory() {
     assert!(!o.status.success());
     let err = stderr(&o);
     assert!(!err.contains("panicked"), "{err}");
-    assert!(err.contains("no_such_dir/run.h5"), "{err}");
-    assert!(!dir.join("no_such_dir").exists());
-    assert_eq!(
-        files_in(&dir),
-        vec!["cache".to_string(), "scene.toml".to_string()]
+    assert!(
+        err.contains("no_such_dir/run.h5") && err.contains("does not exist"),
+        "{err}"
     );
+    assert!(!dir.join("no_such_dir").exists());
+    // Refused before anything else: not even the track was built.
+    assert_eq!(files_in(&dir), vec!["scene.toml".to_string()]);
 }

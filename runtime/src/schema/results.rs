@@ -896,7 +896,7 @@ pub fn write_results(path: &Path, results: &RunResults) -> Result<(), SchemaErro
     let file = hdf5::File::with_options()
         .with_fcpl(|p| p.attr_creation_order(hdf5::plist::file_create::AttrCreationOrder::Indexed))
         .create(atomic.temp_path())
-        .map_err(|source| SchemaError::Open {
+        .map_err(|source| SchemaError::Create {
             path: path.to_path_buf(),
             source,
         })?;
