@@ -208,7 +208,10 @@ pub fn bifurcation(
     if let Err(e) = &ramp_result
         && ramp_down.is_empty()
     {
-        bail!("the ramp-down run failed: {e:#}");
+        bail!(
+            "the ramp-down run failed: {}",
+            crate::error_text::chain_text(&e)
+        );
     }
     let largest = up_scan.iter().map(|p| p.amplitude_mm).fold(0.0, f64::max);
     let up_scan_jump_m_s = up_scan

@@ -494,7 +494,10 @@ pub fn ramp(
             bracket_m_s: None,
             frequency_hz: None,
             samples: vec![],
-            note: Some(format!("the ramp run failed: {e:#}")),
+            note: Some(format!(
+                "the ramp run failed: {}",
+                crate::error_text::chain_text(&e)
+            )),
         });
     }
     let r = runtime::schema::results::read_results(&output)

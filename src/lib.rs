@@ -9,6 +9,7 @@ pub mod contact;
 pub mod creep_curves;
 pub mod critical_speed;
 pub mod diagnostics;
+pub mod error_text;
 pub mod load;
 pub mod planner;
 pub mod probe;

@@ -9,9 +9,13 @@ fn main() -> ExitCode {
     match railsim::cli::run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e}");
-            for cause in e.chain().skip(1) {
-                eprintln!("  caused by: {cause}");
+            let messages = railsim::error_text::chain_messages(&e);
+            for (i, m) in messages.iter().enumerate() {
+                if i == 0 {
+                    eprintln!("error: {m}");
+                } else {
+                    eprintln!("  caused by: {m}");
+                }
             }
             ExitCode::FAILURE
         }

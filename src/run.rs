@@ -434,7 +434,7 @@ fn run_planned(
         fallbacks,
         energy,
         stopped,
-        error: error.as_ref().map(|e| format!("{e:#}")),
+        error: error.as_ref().map(crate::error_text::chain_text),
         track: source,
         plan: plan.clone(),
     };

@@ -730,7 +730,10 @@ pub fn run_tradeoff(
                 Ok(e) => row.errors = Some(e),
                 Err(e) => {
                     row.status = "failed".into();
-                    row.error = Some(format!("comparison with the reference: {e:#}"));
+                    row.error = Some(format!(
+                        "comparison with the reference: {}",
+                        crate::error_text::chain_text(&e)
+                    ));
                 }
             }
         }
@@ -835,8 +838,12 @@ fn run_variant(
         Ok(s) => s,
         Err(e) => {
             row.status = "failed".into();
-            row.error = Some(format!("{e:#}"));
-            progress(&format!("{}: failed: {e:#}", v.name));
+            row.error = Some(crate::error_text::chain_text(&e));
+            progress(&format!(
+                "{}: failed: {}",
+                v.name,
+                crate::error_text::chain_text(&e)
+            ));
             return Ok((row, None));
         }
     };
@@ -868,8 +875,12 @@ fn run_variant(
                     bail!("interrupted");
                 }
                 row.status = "failed".into();
-                row.error = Some(format!("{e:#}"));
-                progress(&format!("{}: failed: {e:#}", v.name));
+                row.error = Some(crate::error_text::chain_text(&e));
+                progress(&format!(
+                    "{}: failed: {}",
+                    v.name,
+                    crate::error_text::chain_text(&e)
+                ));
                 return Ok((row, None));
             }
         }
