@@ -9,9 +9,17 @@ fn main() -> ExitCode {
     match preproc::cli::run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e}");
+            // A cause the message before it already ends with is not
+            // repeated (the library errors carry theirs in both places; see
+            // railsim::error_text).
+            let mut previous = e.to_string();
+            eprintln!("error: {previous}");
             for cause in e.chain().skip(1) {
-                eprintln!("  caused by: {cause}");
+                let text = cause.to_string();
+                if !previous.ends_with(&text) {
+                    eprintln!("  caused by: {text}");
+                }
+                previous = text;
             }
             ExitCode::FAILURE
         }
