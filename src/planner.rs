@@ -826,8 +826,14 @@ pub fn plan(ls: &LoadedScene) -> Result<Plan> {
     let threshold = ffacts.clearance_m - AUTO_MARGIN_M;
     let guard_threshold = threshold - GUARD_MARGIN_M;
     let start_limit = START_FRACTION * guard_threshold;
-    let geometric_ok = straight && ffacts.initial_approach_m <= start_limit;
-    let geometric_reason = if !facts.straight() {
+    // External loads and initial pushes can drive a wheelset to its flange
+    // whatever the track: the flange is then searched.
+    let disturbed = scene.load != crate::load::LoadSection::default()
+        || scene.perturbation != crate::load::PerturbationSection::default();
+    let geometric_ok = straight && !disturbed && ffacts.initial_approach_m <= start_limit;
+    let geometric_reason = if disturbed {
+        "the scene applies a [load] or a [perturbation]".to_string()
+    } else if !facts.straight() {
         format!(
             "the track is not an ideal straight over the range ({})",
             facts.kind_name()

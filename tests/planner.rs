@@ -167,6 +167,21 @@ fn a_large_offset_or_an_unstable_vehicle_keeps_the_flange_search() {
         &[&ALL[..], &["--set", "initial.yaw_rad=0.01"]].concat(),
     );
     assert_eq!(p["flange"], "auto", "{p:#}");
+    // An external load or an initial push can reach the flange on any track.
+    for push in [
+        "load.lateral_force_n=5000",
+        "perturbation.lateral_velocity_m_s=0.2",
+    ] {
+        let p = plan_of(&dir, &scene, &[&ALL[..], &["--set", push]].concat());
+        assert_eq!(p["flange"], "auto", "{push}: {p:#}");
+        assert!(
+            decision(&p, "flange_search")["reason"]
+                .as_str()
+                .unwrap()
+                .contains("[load] or a [perturbation]"),
+            "{p:#}"
+        );
+    }
 }
 
 #[test]
