@@ -210,7 +210,7 @@ pub fn bifurcation(
     {
         bail!(
             "the ramp-down run failed: {}",
-            crate::error_text::chain_text(&e)
+            crate::error_text::chain_text(e)
         );
     }
     let largest = up_scan.iter().map(|p| p.amplitude_mm).fold(0.0, f64::max);
