@@ -40,9 +40,7 @@ use preproc::{BuildConfig, BuildRequest, Inclination, RailSpacing, TrackModel};
 use runtime::contact::quasi_static::flange_clearance_m;
 use runtime::dynamics::linear::linearise;
 use runtime::dynamics::{InitialConditions, VehicleSystem};
-use runtime::track::{
-    CenterlineRow, CenterlineTable, RailRow, RailTable, Side, TrackMeta, TrackTables,
-};
+use runtime::track::{Side, TrackTables};
 use serde::Serialize;
 
 use crate::scene::{LoadedScene, PlanSection};
@@ -1176,97 +1174,13 @@ impl Plan {
 /// `track-preproc build` does), then only the rows inside the range are
 /// tabulated, on the whole-track grid (rows k·h of s and of each rail's L),
 /// so they equal the whole-track table's rows. The centreline rows are
-/// built as `preproc::model::TrackModel::tabulate` builds them.
+/// built by `preproc::model::TrackModel::tabulate_range`.
 pub fn build_track_range(ls: &LoadedScene, range: [f64; 2]) -> Result<TrackTables> {
     let config = build_config(ls)?;
     let model = track_model(ls, &config)?;
-    let h = config.step_m;
-    let length = model.centerline.length_m();
-    let (a, b) = (range[0].max(0.0), range[1].min(length));
-    ensure!(
-        b > a + h,
-        "[track] range_m = [{}, {}] leaves less than one table step of the {length:.1} m track",
-        range[0],
-        range[1]
-    );
-    let window = |grid: Vec<f64>, lo: f64, hi: f64| -> Vec<f64> {
-        let first = grid.iter().rposition(|&x| x <= lo).unwrap_or(0);
-        let last = grid.iter().position(|&x| x >= hi).unwrap_or(grid.len() - 1);
-        grid[first..=last].to_vec()
-    };
-    let s = window(preproc::model::grid(length, h), a, b);
-    let samples = model.centerline.sample(&s)?;
-    let rows: Vec<CenterlineRow> = samples
-        .iter()
-        .map(|c| {
-            let d = model
-                .irregularities
-                .as_ref()
-                .map(|i| i.at(c.s_m))
-                .unwrap_or_default();
-            CenterlineRow {
-                s_m: c.s_m,
-                position: c.point.r.into(),
-                t: c.frame.t.into(),
-                n: c.frame.n.into(),
-                b: c.frame.b.into(),
-                cant_rad: c.cant_rad,
-                curvature_1_m: c.point.curvature(),
-                horizontal_curvature_1_m: c.point.horizontal_curvature(),
-                torsion_1_m: c.point.torsion(),
-                l_left_m: model.left.l_at_s(c.s_m),
-                l_right_m: model.right.l_at_s(c.s_m),
-                align_left_m: d.align_left_m,
-                align_right_m: d.align_right_m,
-                level_left_m: d.level_left_m,
-                level_right_m: d.level_right_m,
-            }
-        })
-        .collect();
-    let (s_lo, s_hi) = (s[0], s[s.len() - 1]);
-    let centerline = CenterlineTable::new(rows).context("the centreline table of the range")?;
-    let mut rails = Vec::new();
-    for side in Side::BOTH {
-        let rail = model.rail(side);
-        let l = window(
-            preproc::model::grid(rail.length_m(), h),
-            rail.l_at_s(s_lo),
-            rail.l_at_s(s_hi),
-        );
-        let rows = rail
-            .sample(&l, &model.centerline)?
-            .into_iter()
-            .map(|r| RailRow {
-                l_m: r.l_m,
-                position: r.point.r.into(),
-                t: r.frame.t.into(),
-                n: r.frame.n.into(),
-                b: r.frame.b.into(),
-            })
-            .collect();
-        rails.push(
-            RailTable::new(side, rows)
-                .with_context(|| format!("the {} table of the range", side.rail_name()))?,
-        );
-    }
-    let right = rails.pop().context("two rails")?;
-    let left = rails.pop().context("two rails")?;
-    Ok(TrackTables {
-        meta: TrackMeta {
-            scheme: config.scheme.name().to_string(),
-            step_m: h,
-            gauge_m: config.gauge_m,
-            rail_spacing_m: config.rail_spacing_m(),
-            cant_base_m: config.cant_base_m(),
-            rail_inclination: config.inclination.text.clone(),
-            rail_inclination_rad: config.inclination.angle_rad,
-            tool: "sim run (track range in memory)".into(),
-            tool_version: env!("CARGO_PKG_VERSION").into(),
-        },
-        centerline,
-        left,
-        right,
-    })
+    model
+        .tabulate_range(range[0], range[1], "sim run (track range in memory)")
+        .with_context(|| format!("[track] range_m = [{}, {}]", range[0], range[1]))
 }
 
 /// The flange guard at an output sample: where it trips (wheelset, time,

@@ -16,7 +16,7 @@ use std::time::Instant;
 use anyhow::{Context, Result, anyhow, ensure};
 use nalgebra::{Matrix3, Vector3};
 use preproc::contact_table::{ContactTableConfig, TableSupport, build_contact_table};
-use preproc::{BuildConfig, BuildRequest, Inclination, NoProgress, RailSpacing, run_build};
+use preproc::{BuildConfig, BuildRequest, Inclination, NoProgress, run_build};
 use runtime::body::RigidBody;
 use runtime::contact::{ContactOptions, FlangeSearch, WheelsetContactModel};
 use runtime::contact_force::ContactForceSettings;
@@ -475,7 +475,22 @@ pub fn system_settings(
                     .as_ref()
                     .context("[contact] imported_table")?,
             );
-            let table = Arc::new(imported_table(&path)?);
+            let table = imported_table(&path)?;
+            // Both wheels read the left wheel's rows, the right one at −y
+            // (runtime::imported_contact, "the mirror"): the centred
+            // wheelset needs rows at both ±y.
+            let (lo_m, hi_m) = table.wheelset_range_m();
+            let (first_m, last_m) = table.range_m();
+            ensure!(
+                lo_m <= 0.0 && hi_m >= 0.0,
+                "imported contact table {}: its rows cover y = {:.3} … {:.3} mm, which does not \
+                 contain the centred wheelset (each wheel reads the table at ±y, so it needs \
+                 rows on both sides of y = 0)",
+                path.display(),
+                first_m * 1e3,
+                last_m * 1e3
+            );
+            let table = Arc::new(table);
             ContactMethod::Imported(ImportedContactMethod {
                 tables: vec![table; vfile.wheelsets.len()],
                 shear_modulus_override_pa: scene.contact.shear_modulus_pa,
@@ -711,18 +726,7 @@ pub fn load_track(ls: &LoadedScene) -> Result<(TrackTables, TrackSource)> {
     let centerline = ls.path(t.centerline.as_ref().context("no centerline")?);
     let cant = t.cant.as_ref().map(|p| ls.path(p));
     let irregularities = t.irregularities.as_ref().map(|p| ls.path(p));
-    let config = BuildConfig {
-        scheme: t.scheme.parse().context("[track] scheme")?,
-        step_m: t.step_m,
-        gauge_m: t.gauge_m,
-        rail_spacing: RailSpacing::default(),
-        inclination: t
-            .rail_inclination
-            .parse::<Inclination>()
-            .map_err(anyhow::Error::msg)
-            .context("[track] rail_inclination")?,
-        cant_base_m: None,
-    };
+    let config = crate::planner::build_config(ls)?;
     let mut key = Fnv64::default();
     key.write_str(env!("CARGO_PKG_VERSION"))
         .write_str(&format!("{config:?}"));

@@ -578,7 +578,7 @@ impl Scene {
         );
         ensure!(
             c.min_rolling_speed_m_s.is_finite() && c.min_rolling_speed_m_s > 0.0,
-            "[contact] min_rolling_speed_m_s = {} must be > 0",
+            "[contact] min_rolling_speed_m_s = {} must be finite and > 0",
             c.min_rolling_speed_m_s
         );
         let i = &self.initial;
@@ -634,11 +634,11 @@ impl Scene {
         match (r.distance_m, r.duration_s) {
             (Some(d), None) => ensure!(
                 d.is_finite() && d > 0.0,
-                "[run] distance_m = {d} must be > 0"
+                "[run] distance_m = {d} must be finite and > 0"
             ),
             (None, Some(d)) => ensure!(
                 d.is_finite() && d > 0.0,
-                "[run] duration_s = {d} must be > 0"
+                "[run] duration_s = {d} must be finite and > 0"
             ),
             _ => bail!("[run]: give either distance_m or duration_s"),
         }
@@ -670,13 +670,13 @@ impl Scene {
         self.method()?;
         ensure!(
             r.output_interval_s.is_finite() && r.output_interval_s > 0.0,
-            "[run] output_interval_s = {} must be > 0",
+            "[run] output_interval_s = {} must be finite and > 0",
             r.output_interval_s
         );
         if let Some(tol) = r.lateral_tolerance_m {
             ensure!(
                 tol.is_finite() && tol > 0.0,
-                "[run] lateral_tolerance_m = {tol} must be > 0 (m)"
+                "[run] lateral_tolerance_m = {tol} must be finite and > 0 (m)"
             );
         }
         crate::planner::validate_section(&self.plan)?;
@@ -762,7 +762,7 @@ impl Scene {
                 );
                 ensure!(
                     r.max_step_s > 0.0 && r.max_step_s.is_finite(),
-                    "[run] max_step_s = {} must be > 0",
+                    "[run] max_step_s = {} must be finite and > 0",
                     r.max_step_s
                 );
                 Method::Dopri5(Dopri5 {

@@ -158,15 +158,7 @@ impl TrackModel {
             rows.par_chunks_mut(CHUNK_ROWS)
                 .zip(l_grid.par_chunks(CHUNK_ROWS))
                 .try_for_each(|(out, l)| {
-                    for (o, r) in out.iter_mut().zip(rail.sample(l, &self.centerline)?) {
-                        *o = RailRow {
-                            l_m: r.l_m,
-                            position: r.point.r.into(),
-                            t: r.frame.t.into(),
-                            n: r.frame.n.into(),
-                            b: r.frame.b.into(),
-                        };
-                    }
+                    self.rail_rows(side, l, out)?;
                     progress.event(Progress::Rows(l.len() as u64));
                     Ok::<_, BuildError>(())
                 })?;
@@ -184,6 +176,83 @@ impl TrackModel {
             left,
             right,
         })
+    }
+
+    /// The tables over the stretch `[s_from_m, s_to_m]` of the centreline
+    /// only (m; clipped to the track): the rows of the whole-track grid
+    /// (abscissae k·h of s and of each rail's L, see [`grid`]) that cover
+    /// the stretch, one row beyond each end, computed exactly as
+    /// [`TrackModel::tabulate`] computes them, so they equal the
+    /// whole-track table's rows. Used for a run that covers only part of a
+    /// long track (`sim run`'s planner). `tool` names the producer in the
+    /// tables' metadata.
+    pub fn tabulate_range(
+        &self,
+        s_from_m: f64,
+        s_to_m: f64,
+        tool: &str,
+    ) -> Result<TrackTables, BuildError> {
+        let h = self.config.step_m;
+        let length = self.centerline.length_m();
+        let (a, b) = (s_from_m.max(0.0), s_to_m.min(length));
+        if b <= a + h || !(s_from_m.is_finite() && s_to_m.is_finite()) {
+            return Err(BuildError::Geometry(format!(
+                "the stretch {s_from_m} … {s_to_m} m leaves less than one table step ({h} m) of the {length:.1} m track"
+            )));
+        }
+        // The grid points that bracket [lo, hi].
+        let window = |grid: Vec<f64>, lo: f64, hi: f64| -> Vec<f64> {
+            let first = grid.iter().rposition(|&x| x <= lo).unwrap_or(0);
+            let last = grid.iter().position(|&x| x >= hi).unwrap_or(grid.len() - 1);
+            grid[first..=last].to_vec()
+        };
+        let s = window(grid(length, h), a, b);
+        let mut rows = vec![CenterlineRow::default(); s.len()];
+        self.centerline_rows(&s, &mut rows)?;
+        let centerline = CenterlineTable::new(rows)
+            .map_err(|e| BuildError::Geometry(format!("centreline table of the stretch: {e}")))?;
+        let (s_lo, s_hi) = (s[0], s[s.len() - 1]);
+        let mut rails = Vec::with_capacity(2);
+        for side in Side::BOTH {
+            let rail = self.rail(side);
+            let l = window(
+                grid(rail.length_m(), h),
+                rail.l_at_s(s_lo),
+                rail.l_at_s(s_hi),
+            );
+            let mut rows = vec![RailRow::default(); l.len()];
+            self.rail_rows(side, &l, &mut rows)?;
+            rails.push(RailTable::new(side, rows).map_err(|e| {
+                BuildError::Geometry(format!("{} table of the stretch: {e}", side.rail_name()))
+            })?);
+        }
+        let right = rails.pop().expect("two rails");
+        let left = rails.pop().expect("two rails");
+        let mut meta = self.meta();
+        meta.tool = tool.to_string();
+        Ok(TrackTables {
+            meta,
+            centerline,
+            left,
+            right,
+        })
+    }
+
+    /// Rail rows at the rail's own arc lengths `l` (m).
+    fn rail_rows(&self, side: Side, l: &[f64], out: &mut [RailRow]) -> Result<(), BuildError> {
+        for (o, r) in out
+            .iter_mut()
+            .zip(self.rail(side).sample(l, &self.centerline)?)
+        {
+            *o = RailRow {
+                l_m: r.l_m,
+                position: r.point.r.into(),
+                t: r.frame.t.into(),
+                n: r.frame.n.into(),
+                b: r.frame.b.into(),
+            };
+        }
+        Ok(())
     }
 
     fn centerline_rows(&self, s: &[f64], out: &mut [CenterlineRow]) -> Result<(), BuildError> {

@@ -150,7 +150,7 @@ fn bad_scenes_name_the_file_and_the_key() {
     let dir = scratch("extremes_bad_scene");
     // (case, edit of the base text, overrides, expected substrings)
     type Edit = fn(String) -> String;
-    let cases: [(&str, Edit, &[&str], &[&str]); 17] = [
+    let cases: [(&str, Edit, &[&str], &[&str]); 18] = [
         (
             "toml_syntax",
             |t| t.replace("speed_m_s = 10.0", "speed_m_s = 10.0 m/s"),
@@ -192,6 +192,12 @@ fn bad_scenes_name_the_file_and_the_key() {
             |t| t,
             &["track.step_m=nan"],
             &["[track] step_m = NaN"],
+        ),
+        (
+            "infinite_output_interval",
+            |t| t,
+            &["run.output_interval_s=inf"],
+            &["[run] output_interval_s = inf must be finite and > 0"],
         ),
         (
             "negative_distance",
@@ -605,6 +611,9 @@ fn bad_imported_contact_tables() {
     let cut_text = &full[..row_start + 120];
     let cut_line = cut_text.lines().count();
     let cut = write(&dir, "cut.dat", cut_text);
+    // Cut at a whole row: a valid table of the first third of the rows,
+    // which does not reach the centred wheelset (y = 0).
+    let one_sided = write(&dir, "one_sided.dat", &full[..row_start]);
     let cut_expect = format!("line {cut_line}");
     let centerline = write(
         &dir,
@@ -624,8 +633,13 @@ fn bad_imported_contact_tables() {
         &std::fs::read(&track).unwrap()[..4000],
     );
     let scene = write(&dir, "scene.toml", scene_text(|t| t));
-    let cases: [(&str, &Path, &[&str]); 4] = [
+    let cases: [(&str, &Path, &[&str]); 5] = [
         ("rsgeo_garbage", &rsgeo, &["table.dat", "line 1"]),
+        (
+            "rsgeo_one_sided",
+            &one_sided,
+            &["one_sided.dat", "does not contain the centred wheelset"],
+        ),
         ("rsgeo_cut", &cut, &["cut.dat", &cut_expect, "expected 13"]),
         (
             "track_table",
