@@ -56,7 +56,7 @@ pub enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// Lateral displacement of one wheelset from several results files in one chart.
+    /// Lateral displacement of one wheelset from several results files in one chart; prints each later run's lateral difference from the first, per wheelset.
     Compare {
         /// Results files written by `sim run`.
         #[arg(value_name = "RESULTS.h5", required = true)]
@@ -527,6 +527,24 @@ pub fn run(cli: Cli) -> Result<()> {
                 loaded.iter().map(|(l, r)| (l.clone(), r)).collect();
             crate::run_plots::write_comparison_plot(&refs, wheelset, &out, &title)?;
             println!("wrote {}", out.display());
+            // Each later run against the first: every wheelset both have.
+            let (first_path, (_, first)) = (&runs[0], &loaded[0]);
+            for (path, (_, r)) in runs.iter().zip(&loaded).skip(1) {
+                for (i, w) in r.wheelsets.iter().enumerate().take(first.wheelsets.len()) {
+                    let (max_m, rms_m, span_s) = crate::tradeoff::lateral_difference(first, r, i)
+                        .with_context(|| {
+                        format!("comparing {} with {}", path.display(), first_path.display())
+                    })?;
+                    println!(
+                        "{} against {}, wheelset {i} ({}): lateral difference max {:.4} µm, rms {:.4} µm over {span_s:.3} s",
+                        path.display(),
+                        first_path.display(),
+                        w.name,
+                        max_m * 1e6,
+                        rms_m * 1e6
+                    );
+                }
+            }
             Ok(())
         }
         Command::CompareContactTables {

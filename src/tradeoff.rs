@@ -600,12 +600,21 @@ pub fn measures(r: &RunResults, skip_s: f64) -> Measures {
     }
 }
 
-/// Max and RMS of the leading wheelsets' lateral difference (m) over the
-/// reference's samples within the run's span, and the span (s).
-fn lateral_difference(reference: &RunResults, run: &RunResults) -> Result<(f64, f64, f64)> {
-    let (wr, wv) = match (reference.wheelsets.first(), run.wheelsets.first()) {
+/// Max and RMS of wheelset `wheelset`'s lateral difference (m) between
+/// `run` and `reference` (0 = the leading wheelset), over the reference's
+/// samples within the run's span (the run interpolated linearly at them),
+/// and that span (s).
+pub fn lateral_difference(
+    reference: &RunResults,
+    run: &RunResults,
+    wheelset: usize,
+) -> Result<(f64, f64, f64)> {
+    let (wr, wv) = match (
+        reference.wheelsets.get(wheelset),
+        run.wheelsets.get(wheelset),
+    ) {
         (Some(a), Some(b)) => (a, b),
-        _ => bail!("a run without wheelsets cannot be compared"),
+        _ => bail!("wheelset {wheelset} is not in both runs"),
     };
     ensure!(
         run.time_s.len() >= 2,
@@ -638,7 +647,7 @@ fn lateral_difference(reference: &RunResults, run: &RunResults) -> Result<(f64, 
 
 /// Errors of `run` against `reference` (module docs).
 pub fn compare(reference: &RunResults, run: &RunResults, skip_s: f64) -> Result<Errors> {
-    let (max, rms, span) = lateral_difference(reference, run)?;
+    let (max, rms, span) = lateral_difference(reference, run, 0)?;
     let (a, b) = (measures(reference, skip_s), measures(run, skip_s));
     let diff = |x: Option<f64>, y: Option<f64>| x.zip(y).map(|(x, y)| (x - y).abs());
     Ok(Errors {
@@ -752,7 +761,7 @@ pub fn run_tradeoff(
             &loaded[j],
             rows[i].distance_per_step_m,
             rows[i].table_step_ratio,
-        ) && let Ok((max, _, _)) = lateral_difference(b, a)
+        ) && let Ok((max, _, _)) = lateral_difference(b, a, 0)
         {
             rule.push(RuleRow {
                 variant: v.name.clone(),

@@ -248,3 +248,38 @@ fn inconsistent_results_are_not_plotted() {
     );
     assert!(std::fs::read_dir(&dir).unwrap().next().is_none());
 }
+
+/// `sim compare` prints each later run's lateral difference from the first,
+/// per wheelset: zero for the same run, the amplitude difference for two
+/// sine runs in phase (6 mm against 5 mm: 1 mm at the peaks).
+#[test]
+fn sim_compare_prints_the_lateral_difference_per_wheelset() {
+    let dir = scratch("sim_compare_difference");
+    let (a, b) = (dir.join("a.h5"), dir.join("b.h5"));
+    runtime::schema::results::write_results(&a, &synthetic(10.0, 6e-3)).unwrap();
+    runtime::schema::results::write_results(&b, &synthetic(10.0, 5e-3)).unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_sim"))
+        .arg("compare")
+        .args([&a, &a, &b])
+        .arg("--out")
+        .arg(dir.join("cmp.png"))
+        .output()
+        .unwrap();
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let max_um: Vec<f64> = out
+        .lines()
+        .filter(|l| l.contains("lateral difference"))
+        .map(|l| {
+            let after = l.split("max ").nth(1).unwrap();
+            after.split(' ').next().unwrap().parse().unwrap()
+        })
+        .collect();
+    // a vs a (two wheelsets), b vs a (two wheelsets).
+    assert_eq!(max_um.len(), 4, "{out}");
+    assert_eq!(&max_um[..2], &[0.0, 0.0], "{out}");
+    for m in &max_um[2..] {
+        assert!((m - 1000.0).abs() < 1.0, "expected ≈ 1000 µm: {out}");
+    }
+    assert!(out.contains("wheelset 1 (trailing)"), "{out}");
+}
