@@ -144,8 +144,33 @@ pub struct SpeedSample {
     /// part (linear).
     pub rate_1_s: f64,
     pub frequency_hz: f64,
+    /// Damping ratio of the hunting mode, ζ = −σ/√(σ² + ω²) with ω = 2πf
+    /// (the eigenvalue σ ± iω = −ζω₀ ± iω₀√(1 − ζ²); > 0: decaying, < 0:
+    /// growing; NaN where σ or f is unknown).
+    pub damping_ratio: f64,
     /// Results file of the run (time method).
     pub results: Option<String>,
+}
+
+impl SpeedSample {
+    /// A sample with its damping ratio computed from `rate_1_s` and
+    /// `frequency_hz`.
+    pub fn new(speed_m_s: f64, rate_1_s: f64, frequency_hz: f64, results: Option<String>) -> Self {
+        Self {
+            speed_m_s,
+            rate_1_s,
+            frequency_hz,
+            damping_ratio: damping_ratio(rate_1_s, frequency_hz),
+            results,
+        }
+    }
+}
+
+/// Damping ratio ζ = −σ/√(σ² + ω²), ω = 2πf, of a mode with growth rate σ
+/// (1/s) and damped frequency f (Hz).
+pub fn damping_ratio(rate_1_s: f64, frequency_hz: f64) -> f64 {
+    let omega = std::f64::consts::TAU * frequency_hz;
+    -rate_1_s / rate_1_s.hypot(omega)
 }
 
 /// The critical speed of one law by one method.
@@ -158,8 +183,8 @@ pub struct CriticalSpeed {
     pub speed_km_h: Option<f64>,
     /// Final bracket (m/s).
     pub bracket_m_s: Option<(f64, f64)>,
-    /// Hunting frequency at the critical speed (Hz) and, for the linear
-    /// method, the mode's damping ratio there.
+    /// Hunting frequency at the critical speed (Hz); the damping ratio of
+    /// the hunting mode at every speed evaluated is in `samples`.
     pub frequency_hz: Option<f64>,
     /// Every speed evaluated, sorted.
     pub samples: Vec<SpeedSample>,
@@ -349,12 +374,12 @@ pub fn time_domain(
             Err(e) => return Err(e.context(format!("run at {v} m/s"))),
         };
         let fit = growth_rate(&r, 0, settings.skip_s);
-        Ok(SpeedSample {
-            speed_m_s: v,
-            rate_1_s: fit.map_or(f64::NAN, |f| f.rate_1_s),
-            frequency_hz: fit.map_or(f64::NAN, |f| f.frequency_hz),
-            results: Some(output.display().to_string()),
-        })
+        Ok(SpeedSample::new(
+            v,
+            fit.map_or(f64::NAN, |f| f.rate_1_s),
+            fit.map_or(f64::NAN, |f| f.frequency_hz),
+            Some(output.display().to_string()),
+        ))
     };
     let (samples, br, note) = bracket(settings, &rate, &stop)?;
     let (speed, freq) = match br {
@@ -412,12 +437,12 @@ pub fn linear_domain(
 ) -> Result<CriticalSpeed> {
     let rate = |v: f64| -> Result<SpeedSample> {
         let m = hunting_mode(scene, law, v)?;
-        Ok(SpeedSample {
-            speed_m_s: v,
-            rate_1_s: m.map_or(f64::NAN, |m| m.eigenvalue.re),
-            frequency_hz: m.map_or(f64::NAN, |m| m.frequency_hz),
-            results: None,
-        })
+        Ok(SpeedSample::new(
+            v,
+            m.map_or(f64::NAN, |m| m.eigenvalue.re),
+            m.map_or(f64::NAN, |m| m.frequency_hz),
+            None,
+        ))
     };
     let (samples, br, note) = bracket(settings, &rate, &stop)?;
     let (speed, freq) = match br {
@@ -546,14 +571,40 @@ pub fn ramp(
         speed_km_h: speed.map(|v| v * 3.6),
         bracket_m_s: None,
         frequency_hz: freq,
-        samples: vec![SpeedSample {
-            speed_m_s: v0,
-            rate_1_s: f64::NAN,
-            frequency_hz: f64::NAN,
-            results: Some(output.display().to_string()),
-        }],
+        samples: vec![SpeedSample::new(
+            v0,
+            f64::NAN,
+            f64::NAN,
+            Some(output.display().to_string()),
+        )],
         note,
     })
+}
+
+impl CriticalSpeed {
+    /// The hunting mode at the lowest and the highest speed evaluated with
+    /// a known damping ratio: "76.0 m/s 3.19 Hz ζ +0.053; 96.0 m/s …".
+    fn mode_text(&self) -> String {
+        let known: Vec<&SpeedSample> = self
+            .samples
+            .iter()
+            .filter(|s| s.damping_ratio.is_finite())
+            .collect();
+        let (Some(lo), Some(hi)) = (known.first(), known.last()) else {
+            return String::new();
+        };
+        let one = |s: &SpeedSample| {
+            format!(
+                "{:.1} m/s {:.2} Hz ζ {:+.3}",
+                s.speed_m_s, s.frequency_hz, s.damping_ratio
+            )
+        };
+        if known.len() == 1 {
+            one(lo)
+        } else {
+            format!("{}; {}", one(lo), one(hi))
+        }
+    }
 }
 
 /// Everything `sim critical-speed` reports.
@@ -568,14 +619,14 @@ impl CriticalSpeedReport {
     /// A table like the paper's Table 1.
     pub fn to_text(&self) -> String {
         let mut s = format!(
-            "critical speed, {}\n  {:<10} {:<7} {:>9} {:>9} {:>10}  bracket\n",
-            self.scene, "creep law", "method", "m/s", "km/h", "f [Hz]"
+            "critical speed, {}\n  {:<10} {:<7} {:>9} {:>9} {:>10}  {:<22} hunting mode below and above (f, ζ)\n",
+            self.scene, "creep law", "method", "m/s", "km/h", "f [Hz]", "bracket"
         );
         for r in &self.results {
             match r.speed_m_s {
                 Some(v) => {
                     s += &format!(
-                        "  {:<10} {:<7} {:>9.2} {:>9.1} {:>10.3}  {}\n",
+                        "  {:<10} {:<7} {:>9.2} {:>9.1} {:>10.3}  {:<22} {}\n",
                         r.creep_law,
                         r.method,
                         v,
@@ -583,7 +634,8 @@ impl CriticalSpeedReport {
                         r.frequency_hz.unwrap_or(f64::NAN),
                         r.bracket_m_s
                             .map(|b| format!("{:.2} … {:.2} m/s", b.0, b.1))
-                            .unwrap_or_default()
+                            .unwrap_or_default(),
+                        r.mode_text()
                     )
                 }
                 None => {
@@ -610,7 +662,9 @@ impl CriticalSpeedReport {
     pub fn write(&mut self, dir: &Path) -> Result<()> {
         use preproc::plot::{LineChart, Series, SeriesStyle, write_line_chart};
         std::fs::create_dir_all(dir)?;
-        let mut csv = String::from("creep_law,method,speed_m_s,rate_1_s,frequency_hz,results\n");
+        let mut csv = String::from(
+            "creep_law,method,speed_m_s,rate_1_s,frequency_hz,damping_ratio,results\n",
+        );
         let mut chart = LineChart::new(
             format!("Growth rate of the hunting motion, {}", self.scene),
             "speed [m/s]",
@@ -623,12 +677,13 @@ impl CriticalSpeedReport {
             let mut pts = Vec::new();
             for s in &r.samples {
                 csv += &format!(
-                    "{},{},{},{},{},{}\n",
+                    "{},{},{},{},{},{},{}\n",
                     r.creep_law,
                     r.method,
                     s.speed_m_s,
                     s.rate_1_s,
                     s.frequency_hz,
+                    s.damping_ratio,
                     s.results.clone().unwrap_or_default()
                 );
                 if s.rate_1_s.is_finite() {
@@ -675,6 +730,25 @@ mod tests {
     }
 
     #[test]
+    fn damping_ratio_of_known_modes() {
+        // λ = −ζω₀ ± iω₀√(1 − ζ²) with ζ = 0.1, ω₀ = 2π·3 rad/s.
+        let (zeta, w0) = (0.1, std::f64::consts::TAU * 3.0);
+        let (sigma, f) = (
+            -zeta * w0,
+            w0 * (1.0f64 - zeta * zeta).sqrt() / std::f64::consts::TAU,
+        );
+        assert!((damping_ratio(sigma, f) - zeta).abs() < 1e-12);
+        assert!(
+            (damping_ratio(-sigma, f) + zeta).abs() < 1e-12,
+            "growing: ζ < 0"
+        );
+        assert_eq!(damping_ratio(0.0, 2.0), 0.0);
+        assert!(damping_ratio(f64::NAN, 2.0).is_nan());
+        let s = SpeedSample::new(80.0, sigma, f, None);
+        assert!((s.damping_ratio - zeta).abs() < 1e-12);
+    }
+
+    #[test]
     fn rate_and_frequency_of_a_damped_sine() {
         for rate in [-0.8, -0.1, 0.0, 0.3] {
             let r = synthetic(rate, 2.5, f64::INFINITY);
@@ -710,12 +784,7 @@ mod tests {
             ramp_deceleration_m_s2: 1.0,
         };
         let rate = |v: f64| -> Result<SpeedSample> {
-            Ok(SpeedSample {
-                speed_m_s: v,
-                rate_1_s: (v - 63.7) * 0.1,
-                frequency_hz: 2.0,
-                results: None,
-            })
+            Ok(SpeedSample::new(v, (v - 63.7) * 0.1, 2.0, None))
         };
         let (samples, br, _) = bracket(&settings, &rate, &AtomicBool::new(false)).unwrap();
         let br = br.unwrap();

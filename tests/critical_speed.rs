@@ -2,7 +2,8 @@
 //!
 //! - the eigenvalue (linear) critical speed agrees with the time-domain one
 //!   for Kalker's linear creep law within 3 % (measured: 86.58 against
-//!   86.21 m/s, 0.4 %), and the hunting frequencies agree;
+//!   86.21 m/s, 0.4 %), the hunting frequencies agree, and the hunting
+//!   mode's damping ratio is positive below and negative above;
 //! - with all four creep laws the Heuristic law gives the lowest critical
 //!   speed, as in the paper's Table 1 (measured: Kalker 86.2, Heuristic
 //!   81.4, Polach 86.1, FASTSIM 83.9 m/s);
@@ -66,6 +67,28 @@ fn linear_and_time_domain_critical_speeds_agree_for_kalker() {
         (f_linear / f_time - 1.0).abs() < 0.05,
         "hunting frequency {f_linear:.3} Hz vs {f_time:.3} Hz"
     );
+    // The hunting mode's damping ratio: positive below the critical speed,
+    // negative above, for both methods.
+    for r in report["results"].as_array().unwrap() {
+        for sample in r["samples"].as_array().unwrap() {
+            let (v, zeta) = (
+                sample["speed_m_s"].as_f64().unwrap(),
+                sample["damping_ratio"].as_f64().unwrap_or(f64::NAN),
+            );
+            let critical = if r["method"] == "linear" {
+                linear
+            } else {
+                time
+            };
+            if (v - critical).abs() > 1.0 {
+                assert!(
+                    zeta.is_finite() && (zeta > 0.0) == (v < critical),
+                    "{} at {v} m/s: ζ = {zeta} (critical {critical:.2} m/s)",
+                    r["method"]
+                );
+            }
+        }
+    }
     let out = dir.join("out");
     for f in ["rates.csv", "rates.png"] {
         assert!(out.join(f).exists(), "{f} missing");

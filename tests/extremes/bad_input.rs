@@ -76,7 +76,7 @@ fn write(dir: &Path, name: &str, text: impl AsRef<[u8]>) -> PathBuf {
 }
 
 /// Files in `dir` whose name marks an unfinished write (the atomic writer's
-/// `.NAME.tmp-PID`).
+/// `.NAME.tmp-PID-N`).
 fn temporaries(dir: &Path) -> Vec<String> {
     if !dir.exists() {
         return Vec::new();
