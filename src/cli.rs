@@ -666,14 +666,34 @@ fn critical_speed_command(args: &CriticalSpeedArgs) -> Result<()> {
         results: Vec::new(),
         files: Vec::new(),
     };
-    for law in &laws {
+    // The ramps (one long run per law) run side by side, `jobs` at a time;
+    // the time and linear methods spread their speeds over the threads
+    // themselves.
+    let mut ramps: Vec<Option<Result<_>>> = if settings.methods.iter().any(|m| m == "ramp") {
+        if !args.json {
+            eprintln!("{}: ramp …", laws.join(", "));
+        }
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(settings.jobs.max(1))
+            .build()
+            .context("starting the worker threads")?;
+        pool.install(|| {
+            use rayon::prelude::*;
+            laws.par_iter()
+                .map(|law| Some(ramp(&scene, law, &settings, stop.clone())))
+                .collect()
+        })
+    } else {
+        Vec::new()
+    };
+    for (k, law) in laws.iter().enumerate() {
         for method in &settings.methods {
-            if !args.json {
+            if !args.json && method != "ramp" {
                 eprintln!("{law}, {method} …");
             }
             let r = match method.as_str() {
                 "time" => time_domain(&scene, law, &settings, stop.clone()),
-                "ramp" => ramp(&scene, law, &settings, stop.clone()),
+                "ramp" => ramps[k].take().context("the ramp of this law ran once")?,
                 _ => linear_domain(&scene, law, &settings, stop.clone()),
             }
             .with_context(|| format!("{law}, {method}"))?;

@@ -224,9 +224,17 @@ impl CriticalSpeedSettings {
         if self.jobs == 0 {
             bail!("jobs must be >= 1");
         }
-        for m in &self.methods {
+        for (i, m) in self.methods.iter().enumerate() {
             if !["time", "ramp", "linear"].contains(&m.as_str()) {
                 bail!("method '{m}' is not time, ramp or linear");
+            }
+            if self.methods[..i].contains(m) {
+                bail!("method '{m}' is given twice");
+            }
+        }
+        for (i, law) in self.laws.iter().enumerate() {
+            if self.laws[..i].contains(law) {
+                bail!("creep law '{law}' is given twice");
             }
         }
         if !(self.ramp_deceleration_m_s2 > 0.0 && self.ramp_deceleration_m_s2.is_finite()) {
@@ -768,6 +776,34 @@ mod tests {
         // Flange within the transient: +∞.
         let r = synthetic(0.4, 2.0, 0.5);
         assert_eq!(growth_rate(&r, 0, 1.0).unwrap().rate_1_s, f64::INFINITY);
+    }
+
+    #[test]
+    fn settings_name_the_violated_rule() {
+        let good = CriticalSpeedSettings {
+            laws: vec!["kalker".into(), "polach".into()],
+            min_m_s: 10.0,
+            max_m_s: 100.0,
+            tol_m_s: 0.1,
+            jobs: 2,
+            methods: vec!["time".into(), "ramp".into()],
+            out_dir: PathBuf::new(),
+            skip_s: 0.0,
+            ramp_deceleration_m_s2: 0.5,
+        };
+        assert!(good.validate().is_ok());
+        let err = |edit: fn(&mut CriticalSpeedSettings)| {
+            let mut s = good.clone();
+            edit(&mut s);
+            s.validate().unwrap_err().to_string()
+        };
+        assert!(err(|s| s.methods.push("ramp".into())).contains("method 'ramp' is given twice"));
+        assert!(
+            err(|s| s.laws.push("kalker".into())).contains("creep law 'kalker' is given twice")
+        );
+        assert!(err(|s| s.methods.push("eigen".into())).contains("'eigen' is not"));
+        assert!(err(|s| s.max_m_s = 5.0).contains("need 0 < min < max"));
+        assert!(err(|s| s.jobs = 0).contains("jobs"));
     }
 
     #[test]
