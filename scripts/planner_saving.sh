@@ -16,7 +16,8 @@ cargo build --release --quiet --bin sim
 sim=target/release/sim
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
-# Build the cached tables first, so no case pays for them.
+# A cache of its own (tables, flangeway clearances), filled by each case's
+# warm-up runs below so that no timed run pays for building them.
 export RAILSIM_CACHE_DIR="$work/cache"
 
 curve='track.centerline="../tracks/curve_r300/centerline.csv"'

@@ -669,7 +669,7 @@ fn critical_speed_command(args: &CriticalSpeedArgs) -> Result<()> {
     // The ramps (one long run per law) run side by side, `jobs` at a time;
     // the time and linear methods spread their speeds over the threads
     // themselves.
-    let mut ramps: Vec<Option<Result<_>>> = if settings.methods.iter().any(|m| m == "ramp") {
+    let ramps: Vec<Result<_>> = if settings.methods.iter().any(|m| m == "ramp") {
         if !args.json {
             eprintln!("{}: ramp …", laws.join(", "));
         }
@@ -680,20 +680,22 @@ fn critical_speed_command(args: &CriticalSpeedArgs) -> Result<()> {
         pool.install(|| {
             use rayon::prelude::*;
             laws.par_iter()
-                .map(|law| Some(ramp(&scene, law, &settings, stop.clone())))
+                .map(|law| ramp(&scene, law, &settings, stop.clone()))
                 .collect()
         })
     } else {
         Vec::new()
     };
-    for (k, law) in laws.iter().enumerate() {
+    // In law order, one per law (validate() refuses a law given twice).
+    let mut ramps = ramps.into_iter();
+    for law in &laws {
         for method in &settings.methods {
             if !args.json && method != "ramp" {
                 eprintln!("{law}, {method} …");
             }
             let r = match method.as_str() {
                 "time" => time_domain(&scene, law, &settings, stop.clone()),
-                "ramp" => ramps[k].take().context("the ramp of this law ran once")?,
+                "ramp" => ramps.next().context("one ramp per law")?,
                 _ => linear_domain(&scene, law, &settings, stop.clone()),
             }
             .with_context(|| format!("{law}, {method}"))?;

@@ -475,22 +475,7 @@ pub fn system_settings(
                     .as_ref()
                     .context("[contact] imported_table")?,
             );
-            let table = imported_table(&path)?;
-            // Both wheels read the left wheel's rows, the right one at −y
-            // (runtime::imported_contact, "the mirror"): the centred
-            // wheelset needs rows at both ±y.
-            let (lo_m, hi_m) = table.wheelset_range_m();
-            let (first_m, last_m) = table.range_m();
-            ensure!(
-                lo_m <= 0.0 && hi_m >= 0.0,
-                "imported contact table {}: its rows cover y = {:.3} … {:.3} mm, which does not \
-                 contain the centred wheelset (each wheel reads the table at ±y, so it needs \
-                 rows on both sides of y = 0)",
-                path.display(),
-                first_m * 1e3,
-                last_m * 1e3
-            );
-            let table = Arc::new(table);
+            let table = Arc::new(imported_table(&path)?);
             ContactMethod::Imported(ImportedContactMethod {
                 tables: vec![table; vfile.wheelsets.len()],
                 shear_modulus_override_pa: scene.contact.shear_modulus_pa,

@@ -196,7 +196,10 @@ pub struct ImportedContactTable {
 
 impl ImportedContactTable {
     /// Checks the table: at least two rows, as many rows as y values, y
-    /// finite, increasing and uniform, every row valid.
+    /// finite, increasing and uniform, rows on both sides of y = 0 (each
+    /// wheel of a wheelset reads the table at ±y, "the mirror": a table
+    /// that misses y = 0 cannot seat the centred wheelset), every row
+    /// valid.
     pub fn validate(&self) -> Result<(), ImportedTableError> {
         let invalid = |row: Option<usize>, rule: String| ImportedTableError::Invalid { row, rule };
         let n = self.y_m.len();
@@ -226,6 +229,20 @@ impl ImportedContactTable {
                     ),
                 ));
             }
+        }
+        let (lo, hi) = self.wheelset_range_m();
+        if !(lo <= 0.0 && hi >= 0.0) {
+            let (first, last) = self.range_m();
+            return Err(invalid(
+                None,
+                format!(
+                    "its rows cover y = {:.3} … {:.3} mm, which does not contain the centred \
+                     wheelset (each wheel reads the table at ±y, so it needs rows on both sides \
+                     of y = 0)",
+                    first * 1e3,
+                    last * 1e3
+                ),
+            ));
         }
         for (i, r) in self.rows.iter().enumerate() {
             r.check().map_err(|rule| invalid(Some(i), rule))?;
@@ -382,5 +399,14 @@ mod tests {
         let mut t = table();
         t.rows.pop();
         assert!(t.validate().is_err());
+        // Rows on one side of y = 0 only: the centred wheelset has none.
+        let mut t = table();
+        t.y_m.truncate(8);
+        t.rows.truncate(8);
+        let e = t.validate().unwrap_err().to_string();
+        assert!(
+            e.contains("-10.000 … -3.000 mm") && e.contains("centred wheelset"),
+            "{e}"
+        );
     }
 }
