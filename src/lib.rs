@@ -1,20 +1,23 @@
-//! The `sim` application: scenes, runs, outputs, plots and sweeps on top of
-//! the `runtime` library and the `preproc` pre-processor.
+//! The `sim` application on top of the `runtime` library and the `preproc`
+//! pre-processor, in layers that only import downwards
+//! (`docs/reference/09-architecture.md`):
+//!
+//! - [`cli`]: the command line (parse, check, call, print);
+//! - [`studies`]: critical speed, bifurcation, the speed/accuracy trade,
+//!   comparisons, contact and creep-curve evaluations; they vary a run
+//!   through a typed [`config::Variation`] and use its results in memory;
+//! - [`report`]: text, JSON, CSV and plots of results;
+//! - [`run`]: a session integrated in time → results in memory and a summary;
+//! - [`session`]: a runnable model assembled from a configuration (track,
+//!   vehicle, contact data, settings) and the planner's decisions;
+//! - [`config`]: scene and vehicle files → typed, validated structs.
+//!
+//! [`error_text`] (error chains as text) is a leaf used by every layer.
 
-pub mod bifurcation;
-pub mod cache;
 pub mod cli;
-pub mod compare_tables;
-pub mod contact;
-pub mod creep_curves;
-pub mod critical_speed;
-pub mod diagnostics;
+pub mod config;
 pub mod error_text;
-pub mod load;
-pub mod planner;
-pub mod probe;
+pub mod report;
 pub mod run;
-pub mod run_plots;
-pub mod scene;
-pub mod tradeoff;
-pub mod vehicle_file;
+pub mod session;
+pub mod studies;

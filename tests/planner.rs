@@ -1,4 +1,4 @@
-//! The planner ([`railsim::planner`], README "Only what the scene
+//! The planner ([`railsim::session::plan`], README "Only what the scene
 //! requires"): its decisions for constructed scenes (straight, curve,
 //! irregular; small and large offsets; a stable bogie and an unstable
 //! wheelset; with and without a tolerance), forced values kept, the
@@ -11,9 +11,9 @@ mod common;
 use std::path::Path;
 
 use common::*;
-use railsim::planner::{By, FlangeGuard, Plan, TrackFacts, build_track_range};
+use railsim::config::scene::LoadedScene;
 use railsim::run::{RunRequest, run_scene_with_plan};
-use railsim::scene::LoadedScene;
+use railsim::session::plan::{By, FlangeGuard, Plan, TrackFacts, build_track_range};
 use runtime::schema::results::read_results;
 use serde_json::Value;
 
@@ -399,7 +399,7 @@ fn the_range_table_has_the_whole_track_rows() {
             cant: None,
             irregularities: Some(shipped("tracks/irregular_300m/irregularities.csv")),
             output: dir.join("unused.h5"),
-            config: railsim::planner::build_config(&ls).expect("config"),
+            config: railsim::session::plan::build_config(&ls).expect("config"),
             contact: None,
             command_line: String::new(),
         },
@@ -457,7 +457,7 @@ step_s = 5e-4
     // A plan with the flange search off and a guard the 2 mm start trips.
     let plan = Plan {
         mode: "required".into(),
-        decisions: vec![railsim::planner::Decision {
+        decisions: vec![railsim::session::plan::Decision {
             item: "flange_search".into(),
             value: "off".into(),
             by: By::Planner,

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use preproc::plot::{LineChart, render_line_chart, render_multi_panel};
-use railsim::run_plots::{
+use railsim::report::run_plots::{
     comparison_chart, contact_force_panels, creepage_panels, lateral_displacement_chart,
     write_comparison_plot, write_run_plots,
 };

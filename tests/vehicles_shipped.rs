@@ -4,7 +4,7 @@
 use std::f64::consts::PI;
 use std::path::PathBuf;
 
-use railsim::vehicle_file::{GRAVITY_M_S2, VehicleFile};
+use railsim::config::vehicle::{GRAVITY_M_S2, VehicleFile};
 
 fn vehicle(name: &str) -> VehicleFile {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))

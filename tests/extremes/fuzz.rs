@@ -3,7 +3,7 @@
 //! irregularities — parsed, then fitted and tabulated when small), the
 //! profile files (`runtime::profile_import`: SIMPACK .prw/.prr, two
 //! columns, CSV — then turned into wheel and rail profiles), scenes
-//! (`railsim::scene::LoadedScene::from_text`, with `--set` overrides),
+//! (`railsim::config::scene::LoadedScene::from_text`, with `--set` overrides),
 //! vehicle files and DYTSI RSGEO contact tables. Each reader gets
 //! arbitrary text and mutations of a valid file (characters deleted,
 //! tokens inserted — `nan`, `1e308`, block markers, separators —, lines
@@ -21,8 +21,8 @@ use preproc::csv::CsvTable;
 use preproc::inputs::{CantInput, CenterlineInput, IrregularityInput};
 use preproc::{BuildConfig, NoProgress, TrackInputs, TrackModel};
 use proptest::prelude::*;
-use railsim::scene::LoadedScene;
-use railsim::vehicle_file::VehicleFile;
+use railsim::config::scene::LoadedScene;
+use railsim::config::vehicle::VehicleFile;
 use runtime::profile::{RailProfile, RailProfileOptions, WheelProfile, WheelProfileOptions};
 use runtime::profile_import::{ImportOptions, parse_profile};
 use runtime::spline::Scheme;
@@ -480,7 +480,7 @@ proptest! {
     #[test]
     fn scenes_mutated_with_overrides(ms in mutations(), o in overrides(), which in 0usize..3) {
         let base = match which {
-            0 => railsim::scene::DEFAULT_SCENE.to_string(),
+            0 => railsim::config::scene::DEFAULT_SCENE.to_string(),
             1 => shipped_text("scenes/bogie_straight.toml"),
             _ => shipped_text("scenes/cooperrider_straight.toml"),
         };

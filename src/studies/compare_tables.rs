@@ -150,7 +150,7 @@ pub fn compare_contact_tables(
                 ours_path.display()
             )
         })?;
-    let imported = crate::run::imported_table(imported_path)?;
+    let imported = crate::session::contact::imported_table(imported_path)?;
     let points = compare_points(&ours, &imported)?;
     ensure!(
         !points.is_empty(),

@@ -43,8 +43,8 @@ use runtime::dynamics::{InitialConditions, VehicleSystem};
 use runtime::track::{Side, TrackTables};
 use serde::Serialize;
 
-use crate::scene::{LoadedScene, PlanSection};
-use crate::vehicle_file::VehicleFile;
+use crate::config::scene::{LoadedScene, PlanSection};
+use crate::config::vehicle::VehicleFile;
 
 /// The items the planner may choose (`[plan] choose`).
 pub const ITEMS: [&str; 4] = ["flange", "method", "step", "range"];
@@ -54,7 +54,7 @@ pub const ITEMS: [&str; 4] = ["flange", "method", "step", "range"];
 pub const MAX_STEP_M: f64 = 1.0;
 
 /// The finest table step (m): the `sim tradeoff` reference's
-/// ([`crate::tradeoff::REFERENCE_OVERRIDES`]).
+/// ([`crate::studies::tradeoff::REFERENCE_OVERRIDES`]).
 pub const FINEST_STEP_M: f64 = 0.01;
 
 /// The steps the planner picks from (m), coarsest first (each divides 1 m).
@@ -526,11 +526,11 @@ fn check_track(ls: &LoadedScene, v: &VehicleFile) -> Result<(TrackTables, f64)> 
 
 /// Flangeway clearance and yawed-flange reach of the vehicle's wheelsets;
 /// the clearance (a quasi-static sweep, about 0.2 s) is cached
-/// ([`crate::cache`]) under a key of the profiles' texts, the wheelsets'
+/// ([`crate::session::cache`]) under a key of the profiles' texts, the wheelsets'
 /// radius and back-to-back, the rail placement and the tool version.
 fn flange_facts(ls: &LoadedScene, v: &VehicleFile, track: &TrackTables) -> Result<FlangeFacts> {
     let rail = ls.path(&ls.scene.track.rail_profile);
-    let mut key = crate::cache::Fnv64::default();
+    let mut key = crate::session::cache::Fnv64::default();
     key.write_str(env!("CARGO_PKG_VERSION"))
         .write_str(&format!("{:?}", track.meta))
         .write_str(
@@ -544,7 +544,8 @@ fn flange_facts(ls: &LoadedScene, v: &VehicleFile, track: &TrackTables) -> Resul
         )
         .write_str(&format!("{} {}", w.nominal_radius_m, w.back_to_back_m));
     }
-    let path = crate::cache::cache_dir()?.join(format!("flange-{:016x}.txt", key.finish()));
+    let path =
+        crate::session::cache::cache_dir()?.join(format!("flange-{:016x}.txt", key.finish()));
     let i = &ls.scene.initial;
     let facts = |clearance_m: f64, reach: f64| FlangeFacts {
         clearance_m,
@@ -557,7 +558,7 @@ fn flange_facts(ls: &LoadedScene, v: &VehicleFile, track: &TrackTables) -> Resul
     }) {
         return Ok(facts(c, r));
     }
-    let vehicle = crate::run::vehicle_model(v, track, &rail)?;
+    let vehicle = crate::session::vehicle::vehicle_model(v, track, &rail)?;
     let mut clearance = f64::INFINITY;
     let mut reach = 0.0_f64;
     let mut done: Vec<&runtime::contact::WheelsetContactModel> = Vec::new();
@@ -599,8 +600,9 @@ fn hunting(
     // Off: the centred run has no flange contact, and the assembly then
     // skips the flangeway clearance sweep.
     check.scene.contact.flange = "off".into();
-    let vehicle = crate::run::vehicle_model(v, track, &ls.path(&ls.scene.track.rail_profile))?;
-    let mut settings = crate::run::system_settings(&check, v, track)?;
+    let vehicle =
+        crate::session::vehicle::vehicle_model(v, track, &ls.path(&ls.scene.track.rail_profile))?;
+    let mut settings = crate::session::settings::system_settings(&check, v, track)?;
     settings.s_start_m = s_start;
     settings.deceleration_m_s2 = 0.0;
     let (mut system, y0) =
@@ -826,8 +828,8 @@ pub fn plan(ls: &LoadedScene) -> Result<Plan> {
     let start_limit = START_FRACTION * guard_threshold;
     // External loads and initial pushes can drive a wheelset to its flange
     // whatever the track: the flange is then searched.
-    let disturbed = scene.load != crate::load::LoadSection::default()
-        || scene.perturbation != crate::load::PerturbationSection::default();
+    let disturbed = scene.load != crate::config::load::LoadSection::default()
+        || scene.perturbation != crate::config::load::PerturbationSection::default();
     let geometric_ok = straight && !disturbed && ffacts.initial_approach_m <= start_limit;
     let geometric_reason = if disturbed {
         "the scene applies a [load] or a [perturbation]".to_string()

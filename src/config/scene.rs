@@ -57,13 +57,13 @@
 //! # mode = "required"           # scene (default) | required | everything
 //! # choose = ["flange"]         # items the planner chooses even when set above
 //!
-//! # [load]                      # optional: constant loads on the wheelsets (crate::load)
+//! # [load]                      # optional: constant loads on the wheelsets (crate::config::load)
 //! # lateral_force_n = 20000.0   # + left; yaw_moment_nm, yaw_stiffness_nm_rad, yaw_angle_rad
 //! # [perturbation]              # optional: drop_m, lateral_velocity_m_s at t = 0
 //! ```
 //!
 //! The `[plan]` section and `track.range_m` are described in
-//! [`crate::planner`]: with `mode = "required"` the planner chooses the
+//! [`crate::session::plan`]: with `mode = "required"` the planner chooses the
 //! flange search, the contact method, the table step and the track range
 //! wherever the scene leaves them out (or lists them in `choose`).
 
@@ -107,7 +107,7 @@ pub struct TrackSection {
     pub rail_profile: PathBuf,
     /// Tabulate only this stretch `[from, to]` of the centreline (track
     /// distance, m), built in memory; CSV inputs only. Set by the planner
-    /// ([`crate::planner`]) or by hand; absent: the whole track.
+    /// ([`crate::session::plan`]) or by hand; absent: the whole track.
     #[serde(default)]
     pub range_m: Option<[f64; 2]>,
 }
@@ -333,15 +333,15 @@ pub struct Scene {
     pub run: RunSection,
     #[serde(default)]
     pub plan: PlanSection,
-    /// External loads on the wheelsets (`[load]`, [`crate::load`]).
+    /// External loads on the wheelsets (`[load]`, [`crate::config::load`]).
     #[serde(default)]
-    pub load: crate::load::LoadSection,
-    /// Changes to the settled initial state (`[perturbation]`, [`crate::load`]).
+    pub load: crate::config::load::LoadSection,
+    /// Changes to the settled initial state (`[perturbation]`, [`crate::config::load`]).
     #[serde(default)]
-    pub perturbation: crate::load::PerturbationSection,
+    pub perturbation: crate::config::load::PerturbationSection,
 }
 
-/// What the planner may choose ([`crate::planner`]).
+/// What the planner may choose ([`crate::session::plan`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PlanSection {
@@ -384,7 +384,7 @@ pub struct LoadedScene {
 
 /// The paper's single-wheelset case on the shipped data, run by `sim run`
 /// without a scene.
-pub const DEFAULT_SCENE: &str = include_str!("../tables/scenes/wheelset_straight.toml");
+pub const DEFAULT_SCENE: &str = include_str!("../../tables/scenes/wheelset_straight.toml");
 /// Directory of the built-in scene's relative paths.
 pub const DEFAULT_SCENE_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tables/scenes");
 
@@ -679,7 +679,7 @@ impl Scene {
                 "[run] lateral_tolerance_m = {tol} must be finite and > 0 (m)"
             );
         }
-        crate::planner::validate_section(&self.plan)?;
+        crate::session::plan::validate_section(&self.plan)?;
         Ok(())
     }
 

@@ -23,8 +23,8 @@ use anyhow::{Context, Result, bail};
 use rayon::prelude::*;
 use serde::Serialize;
 
+use crate::config::scene::LoadedScene;
 use crate::run::{RunRequest, run_scene};
-use crate::scene::LoadedScene;
 
 /// Settings of a diagram.
 #[derive(Debug, Clone, PartialEq)]

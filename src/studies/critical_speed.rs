@@ -29,8 +29,8 @@ use runtime::dynamics::{InitialConditions, SystemSettings, VehicleSystem};
 use runtime::schema::results::RunResults;
 use serde::Serialize;
 
+use crate::config::scene::LoadedScene;
 use crate::run::{RunRequest, run_scene};
-use crate::scene::LoadedScene;
 
 /// A growth-rate fit of the lateral motion of one wheelset.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -418,10 +418,15 @@ pub fn hunting_mode(scene: &LoadedScene, law: &str, v: f64) -> Result<Option<Mod
             format!("contact.creep_law=\"{law}\""),
         ],
     )?;
-    let (track, _) = crate::run::load_track(&s)?;
-    let vfile = crate::vehicle_file::VehicleFile::load(&s.path(&s.scene.vehicle.file))?;
-    let vehicle = crate::run::vehicle_model(&vfile, &track, &s.path(&s.scene.track.rail_profile))?;
-    let mut settings: SystemSettings = crate::run::system_settings(&s, &vfile, &track)?;
+    let (track, _) = crate::session::track::load_track(&s)?;
+    let vfile = crate::config::vehicle::VehicleFile::load(&s.path(&s.scene.vehicle.file))?;
+    let vehicle = crate::session::vehicle::vehicle_model(
+        &vfile,
+        &track,
+        &s.path(&s.scene.track.rail_profile),
+    )?;
+    let mut settings: SystemSettings =
+        crate::session::settings::system_settings(&s, &vfile, &track)?;
     // The linearisation is about a steady run at v: no speed ramp, no axle
     // torque (either would make the centred run non-stationary).
     settings.speed_m_s = v;

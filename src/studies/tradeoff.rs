@@ -18,7 +18,7 @@
 //!   reference's time grid (every variant samples at the scene's
 //!   `output_interval_s`, so the grids coincide); the hunting frequency
 //!   from the zero crossings of that displacement ([`hunting_frequency_hz`]);
-//!   the growth rate of its peaks ([`crate::critical_speed::growth_rate`]);
+//!   the growth rate of its peaks ([`crate::studies::critical_speed::growth_rate`]);
 //!   the peaks over all wheels of the total lateral contact force |Y| and of
 //!   the total normal force (tread + flange). The growth rate and the peaks
 //!   skip the first 20 % of the run: the start is the same assembled state
@@ -30,7 +30,7 @@
 //!   table step's own error at two integrator steps (against the run with
 //!   the same integrator and the finest table);
 //! - optionally the time-domain critical speed
-//!   ([`crate::critical_speed::time_domain`]) of the variant's settings and
+//!   ([`crate::studies::critical_speed::time_domain`]) of the variant's settings and
 //!   its error against the reference's (expensive: one bracketing search
 //!   per variant).
 //!
@@ -48,9 +48,9 @@ use anyhow::{Context, Result, bail, ensure};
 use runtime::schema::results::{RunResults, read_results};
 use serde::Serialize;
 
-use crate::critical_speed::{CriticalSpeedSettings, growth_rate, time_domain};
+use crate::config::scene::{LoadedScene, Scene};
 use crate::run::{RunRequest, run_scene};
-use crate::scene::{LoadedScene, Scene};
+use crate::studies::critical_speed::{CriticalSpeedSettings, growth_rate, time_domain};
 
 /// The reference run: finest table step, online contact with the flange
 /// always searched, RK4 at 0.1 ms. Measured on the bogie at 84 m/s over

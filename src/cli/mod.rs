@@ -1,5 +1,7 @@
 //! Command-line interface of `sim` (thin: parse, check, call, print).
 
+pub mod probe;
+
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
@@ -25,7 +27,7 @@ pub enum Command {
     /// Critical speed per creep law: time-domain growth rates, a speed ramp, eigenvalues.
     CriticalSpeed(CriticalSpeedArgs),
     /// Speed against accuracy: the scene over the numerical knobs against a fine reference run.
-    Tradeoff(crate::tradeoff::TradeoffArgs),
+    Tradeoff(crate::studies::tradeoff::TradeoffArgs),
     /// Bifurcation diagram: hunting amplitude against speed (up-scan and ramp-down).
     Bifurcation {
         /// Scene file (TOML).
@@ -249,7 +251,7 @@ pub struct RunArgs {
 impl RunArgs {
     /// Second stage: the checked request.
     pub fn to_request(&self) -> Result<crate::run::RunRequest> {
-        use crate::scene::LoadedScene;
+        use crate::config::scene::LoadedScene;
         let mut set = self.set.clone();
         if self.plan {
             set.push("plan.mode=\"required\"".into());
@@ -348,9 +350,9 @@ pub struct CreepCurveArgs {
 
 impl CreepCurveArgs {
     /// Second stage: checked settings.
-    pub fn to_config(&self) -> Result<crate::creep_curves::CreepCurveConfig> {
-        use crate::creep_curves::CreepCurveConfig;
-        let material = crate::contact::material(self.young_pa, self.poisson);
+    pub fn to_config(&self) -> Result<crate::studies::creep_curves::CreepCurveConfig> {
+        use crate::studies::creep_curves::CreepCurveConfig;
+        let material = crate::studies::contact::material(self.young_pa, self.poisson);
         material.validate().context("--young-pa / --poisson")?;
         let (a_m, b_m) = match (self.a_mm, self.b_mm) {
             (Some(a), Some(b)) => (a * 1e-3, b * 1e-3),
@@ -386,11 +388,11 @@ impl CreepCurveArgs {
 
 impl ContactArgs {
     /// Second stage: the wheelset's motion and the force models.
-    pub fn to_rolling(&self) -> Result<crate::contact::Rolling> {
+    pub fn to_rolling(&self) -> Result<crate::studies::contact::Rolling> {
         let creep_law = CreepLaw::from_name(&self.creep)
             .with_context(|| format!("--creep {}: unknown creep law", self.creep))?;
         let settings = runtime::contact_force::ContactForceSettings {
-            material: crate::contact::material(self.young_pa, self.poisson),
+            material: crate::studies::contact::material(self.young_pa, self.poisson),
             friction_coefficient: self.mu,
             creep_law,
             ..Default::default()
@@ -402,7 +404,7 @@ impl ContactArgs {
                 self.speed_m_s
             );
         }
-        Ok(crate::contact::Rolling {
+        Ok(crate::studies::contact::Rolling {
             speed_m_s: self.speed_m_s,
             settings,
         })
@@ -430,7 +432,7 @@ impl ContactArgs {
             } else {
                 TableSupport::Elastic {
                     wheel_load_n: self.wheel_load_n,
-                    material: crate::contact::material(self.young_pa, self.poisson),
+                    material: crate::studies::contact::material(self.young_pa, self.poisson),
                 }
             },
             ..Default::default()
@@ -446,7 +448,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Contact(args) => {
             let config = args.to_config()?;
             let rolling = args.to_rolling()?;
-            let (case, _) = crate::contact::contact_case(
+            let (case, _) = crate::studies::contact::contact_case(
                 &config,
                 args.y_mm * 1e-3,
                 args.yaw_mrad * 1e-3,
@@ -461,7 +463,7 @@ pub fn run(cli: Cli) -> Result<()> {
         }
         Command::CreepCurves(args) => {
             let config = args.to_config()?;
-            let curves = crate::creep_curves::creep_curves(&config)?;
+            let curves = crate::studies::creep_curves::creep_curves(&config)?;
             for path in curves.write(&args.out)? {
                 println!("wrote {}", path.display());
             }
@@ -469,7 +471,7 @@ pub fn run(cli: Cli) -> Result<()> {
         }
         Command::Run(args) => run_command(&args),
         Command::CriticalSpeed(args) => critical_speed_command(&args),
-        Command::Tradeoff(args) => crate::tradeoff::command(&args),
+        Command::Tradeoff(args) => crate::studies::tradeoff::command(&args),
         Command::Bifurcation {
             scene,
             min,
@@ -483,8 +485,8 @@ pub fn run(cli: Cli) -> Result<()> {
         } => {
             use std::sync::Arc;
             use std::sync::atomic::{AtomicBool, Ordering};
-            let scene = crate::scene::LoadedScene::load(&scene, &set)?;
-            let settings = crate::bifurcation::BifurcationSettings {
+            let scene = crate::config::scene::LoadedScene::load(&scene, &set)?;
+            let settings = crate::studies::bifurcation::BifurcationSettings {
                 min_m_s: min,
                 max_m_s: max,
                 step_m_s: step,
@@ -498,7 +500,7 @@ pub fn run(cli: Cli) -> Result<()> {
                 let stop = stop.clone();
                 let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
             }
-            let b = crate::bifurcation::bifurcation(&scene, &settings, stop)?;
+            let b = crate::studies::bifurcation::bifurcation(&scene, &settings, stop)?;
             if json {
                 println!("{}", serde_json::to_string_pretty(&b)?);
             } else {
@@ -525,14 +527,16 @@ pub fn run(cli: Cli) -> Result<()> {
             }
             let refs: Vec<(String, &runtime::schema::results::RunResults)> =
                 loaded.iter().map(|(l, r)| (l.clone(), r)).collect();
-            crate::run_plots::write_comparison_plot(&refs, wheelset, &out, &title)?;
+            crate::report::run_plots::write_comparison_plot(&refs, wheelset, &out, &title)?;
             println!("wrote {}", out.display());
             // Each later run against the first: every wheelset both have.
             let (first_path, (_, first)) = (&runs[0], &loaded[0]);
             for (path, (_, r)) in runs.iter().zip(&loaded).skip(1) {
                 for (i, w) in r.wheelsets.iter().enumerate().take(first.wheelsets.len()) {
-                    let (max_m, rms_m, span_s) = crate::tradeoff::lateral_difference(first, r, i)
-                        .with_context(|| {
+                    let (max_m, rms_m, span_s) = crate::studies::tradeoff::lateral_difference(
+                        first, r, i,
+                    )
+                    .with_context(|| {
                         format!("comparing {} with {}", path.display(), first_path.display())
                     })?;
                     println!(
@@ -553,7 +557,7 @@ pub fn run(cli: Cli) -> Result<()> {
             out,
             json,
         } => {
-            let c = crate::compare_tables::compare_contact_tables(&ours, &imported, &out)?;
+            let c = crate::studies::compare_tables::compare_contact_tables(&ours, &imported, &out)?;
             if json {
                 println!("{}", serde_json::to_string_pretty(&c)?);
             } else {
@@ -562,7 +566,7 @@ pub fn run(cli: Cli) -> Result<()> {
             Ok(())
         }
         Command::Probe { file, s, json } => {
-            let p = crate::probe::probe_file(&file, s)?;
+            let p = crate::cli::probe::probe_file(&file, s)?;
             if json {
                 println!("{}", serde_json::to_string_pretty(&p)?);
             } else {
@@ -578,7 +582,7 @@ fn run_command(args: &RunArgs) -> Result<()> {
     use std::sync::atomic::{AtomicBool, Ordering};
 
     let req = args.to_request()?;
-    let plan = crate::planner::plan(&req.scene).context("planning the run")?;
+    let plan = crate::session::plan::plan(&req.scene).context("planning the run")?;
     if args.plan_only {
         if args.json {
             println!("{}", serde_json::to_string_pretty(&plan)?);
@@ -630,13 +634,13 @@ fn run_command(args: &RunArgs) -> Result<()> {
 }
 
 fn critical_speed_command(args: &CriticalSpeedArgs) -> Result<()> {
-    use crate::critical_speed::{
+    use crate::studies::critical_speed::{
         CriticalSpeedReport, CriticalSpeedSettings, linear_domain, ramp, time_domain,
     };
     use std::sync::Arc;
     use std::sync::atomic::{AtomicBool, Ordering};
 
-    let scene = crate::scene::LoadedScene::load(&args.scene, &args.set)?;
+    let scene = crate::config::scene::LoadedScene::load(&args.scene, &args.set)?;
     let laws = if args.creep.is_empty() {
         vec![scene.scene.contact.creep_law.clone()]
     } else {

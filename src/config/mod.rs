@@ -1,0 +1,7 @@
+//! Configuration: scene and vehicle files → typed structs with serde enums,
+//! each checked by one `validate()` that names the violated rule
+//! (`docs/reference/10-scene-files.md`, `docs/reference/11-vehicle-files.md`).
+
+pub mod load;
+pub mod scene;
+pub mod vehicle;

@@ -1,0 +1,325 @@
+//! `sim run`: a scene from file (or the built-in single-wheelset case) to a
+//! results file, plots and a summary (SPEC §8). The track tables (and, with
+//! `method = "table"`, the contact lookup tables) are built on demand and
+//! cached ([`crate::session::cache`]); the vehicle file becomes a
+//! [`VehicleModel`]; the system is integrated with the scene's method while
+//! outputs are sampled at the scene's interval. Ctrl-C (a stop flag) ends
+//! the run at the next accepted step and the results so far are written,
+//! as they are when the run fails (derailment, a contact that cannot be
+//! solved): the error is then reported after writing.
+
+pub mod diagnostics;
+pub mod summary;
+
+pub use summary::{EnergySummary, RunSummary, WheelsetSummary};
+
+use crate::session::{settings::system_settings, track::load_track, vehicle::vehicle_model};
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+use summary::wheelset_summaries;
+
+use anyhow::{Context, Result, anyhow};
+use runtime::dynamics::{InitialConditions, Recorder, VehicleSystem};
+use runtime::integrator::{IntegrationStats, OutputGrid, integrate};
+
+use crate::config::scene::LoadedScene;
+use crate::config::vehicle::VehicleFile;
+
+/// Progress of a run, for the CLI's bar.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunProgress {
+    /// Simulated time reached and to reach (s).
+    pub simulated_s: f64,
+    pub total_s: f64,
+    /// Wall time of the integration so far (s).
+    pub wall_s: f64,
+}
+
+/// What to run and where to write.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunRequest {
+    pub scene: LoadedScene,
+    pub output: PathBuf,
+    /// Directory for the PNG plots; `None`: no plots.
+    pub plots: Option<PathBuf>,
+}
+
+/// Runs a scene (module docs). `progress` is called every few hundred
+/// accepted steps; `stop` ends the run cleanly when set.
+pub fn run_scene(
+    req: &RunRequest,
+    progress: &mut dyn FnMut(RunProgress),
+    stop: Option<Arc<AtomicBool>>,
+) -> Result<RunSummary> {
+    let plan = crate::session::plan::plan(&req.scene).context("planning the run")?;
+    run_scene_with_plan(req, plan, progress, stop)
+}
+
+/// Runs a scene with the decisions of [`crate::session::plan::plan`]; a run
+/// whose flange guard trips is repeated with the flange searched (`auto`).
+pub fn run_scene_with_plan(
+    req: &RunRequest,
+    mut plan: crate::session::plan::Plan,
+    progress: &mut dyn FnMut(RunProgress),
+    stop: Option<Arc<AtomicBool>>,
+) -> Result<RunSummary> {
+    loop {
+        match run_planned(req, &plan, progress, stop.clone())? {
+            Attempt::Done(summary) => return Ok(*summary),
+            Attempt::Revise(why) => plan.revise_flange(&why),
+        }
+    }
+}
+
+/// One run of a plan.
+enum Attempt {
+    Done(Box<RunSummary>),
+    /// The flange guard tripped (where, and the time lost).
+    Revise(String),
+}
+
+fn run_planned(
+    req: &RunRequest,
+    plan: &crate::session::plan::Plan,
+    progress: &mut dyn FnMut(RunProgress),
+    stop: Option<Arc<AtomicBool>>,
+) -> Result<Attempt> {
+    let setup_start = Instant::now();
+    let planned = plan.apply(&req.scene);
+    let ls = &planned;
+    let scene = &ls.scene;
+    let (track, source) = load_track(ls).context("track tables")?;
+    let vehicle_path = ls.path(&scene.vehicle.file);
+    let vfile = VehicleFile::load(&vehicle_path)?;
+    let rail_path = ls.path(&scene.track.rail_profile);
+    let mut vehicle = vehicle_model(&vfile, &track, &rail_path)?;
+    crate::session::load::add_loads(&mut vehicle, &scene.load)?;
+    let settings = system_settings(ls, &vfile, &track)?;
+    let integrator = scene.method()?;
+    let (mut system, mut y0) = VehicleSystem::assemble(
+        &track,
+        &vehicle,
+        settings,
+        InitialConditions {
+            lateral_m: scene.initial.lateral_m,
+            yaw_rad: scene.initial.yaw_rad,
+        },
+    )
+    .context("assembling the vehicle on the track")?;
+    crate::session::load::perturb(
+        &mut y0,
+        &vehicle,
+        &track,
+        scene.initial.s_m,
+        &scene.perturbation,
+    )?;
+    // With a flange guard the system stops on its own flag, set by the
+    // guard or by the caller's (checked at every accepted step).
+    let guard = plan.flange_guard;
+    let guard_flag = Arc::new(AtomicBool::new(false));
+    match (stop.clone(), guard) {
+        (Some(flag), None) => system.set_stop_flag(flag),
+        (None, None) => {}
+        (_, Some(_)) => system.set_stop_flag(guard_flag.clone()),
+    }
+    system.enable_energy_ledger();
+    let total_s = scene.duration_s();
+    let setup_time_s = setup_start.elapsed().as_secs_f64();
+    let start = Instant::now();
+    let mut accepted = 0u64;
+    {
+        let progress_ref = &mut *progress;
+        let (user_stop, guard_flag) =
+            (stop.clone().filter(|_| guard.is_some()), guard_flag.clone());
+        system.set_progress(Box::new(move |t| {
+            accepted += 1;
+            if let Some(u) = &user_stop
+                && u.load(std::sync::atomic::Ordering::Relaxed)
+            {
+                guard_flag.store(true, std::sync::atomic::Ordering::Relaxed);
+            }
+            if accepted % 256 == 0 {
+                progress_ref(RunProgress {
+                    simulated_s: t,
+                    total_s,
+                    wall_s: start.elapsed().as_secs_f64(),
+                });
+            }
+        }));
+    }
+    let mut recorder = Recorder::new(&system);
+    let mut tripped: Option<String> = None;
+    // Remembers the state of each evaluation for the diagnostic of a failure.
+    let mut watched = crate::run::diagnostics::Watched::new(&mut system);
+    let outcome = integrate(
+        &integrator,
+        &mut watched,
+        0.0,
+        &y0,
+        total_s,
+        &OutputGrid {
+            interval_s: scene.run.output_interval_s,
+        },
+        &mut |sys, t, y| {
+            sys.note(t, y);
+            recorder.record(sys, t, y)?;
+            if let Some(g) = guard
+                && tripped.is_none()
+            {
+                tripped = crate::session::plan::guard_check(&g, &recorder.results, t);
+                if tripped.is_some() {
+                    guard_flag.store(true, std::sync::atomic::Ordering::Relaxed);
+                }
+            }
+            Ok(())
+        },
+    );
+    let wall_time_s = start.elapsed().as_secs_f64();
+    let diagnostic = outcome.as_ref().err().map(|e| watched.diagnose(e));
+    let hertz_floor_evaluations = watched.hertz_floor_evaluations();
+    if let Some(why) = tripped {
+        return Ok(Attempt::Revise(format!(
+            "{why}; the first attempt took {wall_time_s:.2} s of integration"
+        )));
+    }
+    let counters = system.counters();
+    let stats_solvers =
+        system
+            .solvers()
+            .iter()
+            .fold(runtime::contact::SolverStats::default(), |mut a, s| {
+                a.solves += s.stats.solves;
+                a.iterations += s.stats.iterations;
+                a.cold_starts += s.stats.cold_starts;
+                a.flange_skipped += s.stats.flange_skipped;
+                a.clear_skipped += s.stats.clear_skipped;
+                a.minimisations += s.stats.minimisations;
+                a
+            });
+    let track_end_reached = system.track_end_reached();
+    let energy = system.energy_ledger().map(EnergySummary::from);
+    drop(system);
+    let (stats, error) = match outcome {
+        Ok(s) => (Some(s), None),
+        Err(e) => (None, Some(anyhow!(e))),
+    };
+    let simulated_time_s = recorder.results.time_s.last().copied().unwrap_or(0.0);
+    let stopped = match &stats {
+        Some(IntegrationStats { stopped: true, .. }) => {
+            if stop
+                .as_ref()
+                .is_some_and(|f| f.load(std::sync::atomic::Ordering::Relaxed))
+            {
+                Some("interrupted".to_string())
+            } else if track_end_reached {
+                Some("end of track".to_string())
+            } else {
+                Some("stopped".to_string())
+            }
+        }
+        _ => None,
+    };
+    let mut results = recorder.results;
+    results.scene_toml = ls.text.clone();
+    results.attributes = vec![
+        ("title".into(), scene.title.clone()),
+        ("scene".into(), ls.origin.clone()),
+        ("vehicle".into(), vfile.name.clone()),
+        ("creep_law".into(), scene.contact.creep_law.clone()),
+        ("contact_method".into(), scene.contact.method.clone()),
+        ("flange_search".into(), scene.contact.flange.clone()),
+        ("integrator".into(), scene.run.integrator.clone()),
+        ("speed_m_s".into(), format!("{}", scene.initial.speed_m_s)),
+        ("track".into(), source.path.clone()),
+        ("plan".into(), plan.to_text()),
+        (
+            "plan_json".into(),
+            serde_json::to_string(plan).context("the plan as JSON")?,
+        ),
+        (
+            "status".into(),
+            match (&error, &stopped) {
+                (Some(e), _) => format!("failed: {e}"),
+                (None, Some(s)) => format!("stopped: {s}"),
+                (None, None) => "completed".into(),
+            },
+        ),
+    ];
+    let fallbacks = crate::run::diagnostics::FallbackCounts::count(
+        stats_solvers.minimisations,
+        hertz_floor_evaluations,
+        &results,
+    );
+    results
+        .attributes
+        .extend(crate::run::diagnostics::run_attributes(
+            stats.as_ref(),
+            counters.accepted,
+            counters.evaluations,
+            stats_solvers.solves,
+            &fallbacks,
+            diagnostic.as_ref(),
+        ));
+    runtime::schema::results::write_results(&req.output, &results)
+        .with_context(|| format!("writing the results {}", req.output.display()))?;
+    let plots = match &req.plots {
+        Some(dir) if !results.is_empty() => {
+            crate::report::run_plots::write_run_plots(&results, dir, &scene.title)?
+                .into_iter()
+                .map(|p| p.display().to_string())
+                .collect()
+        }
+        _ => Vec::new(),
+    };
+    let summary = RunSummary {
+        scene: ls.origin.clone(),
+        title: scene.title.clone(),
+        output: req.output.display().to_string(),
+        plots,
+        creep_law: scene.contact.creep_law.clone(),
+        contact_method: scene.contact.method.clone(),
+        integrator: scene.run.integrator.clone(),
+        speed_m_s: scene.initial.speed_m_s,
+        simulated_time_s,
+        wall_time_s,
+        real_time_factor: if wall_time_s > 0.0 {
+            simulated_time_s / wall_time_s
+        } else {
+            f64::INFINITY
+        },
+        setup_time_s,
+        steps: stats.map_or(counters.accepted, |s| s.steps),
+        rejected_steps: stats.map_or(0, |s| s.rejected),
+        rhs_evaluations: counters.evaluations,
+        output_samples: results.len(),
+        contact_solves: stats_solvers.solves,
+        mean_newton_iterations: if stats_solvers.solves > 0 {
+            stats_solvers.iterations as f64 / stats_solvers.solves as f64
+        } else {
+            0.0
+        },
+        cold_starts: stats_solvers.cold_starts,
+        flange_searches_skipped: stats_solvers.flange_skipped + stats_solvers.clear_skipped,
+        flange_contact_states: counters.flange_contact_states,
+        wheelsets: wheelset_summaries(&results),
+        fallbacks,
+        energy,
+        stopped,
+        error: error.as_ref().map(crate::error_text::chain_text),
+        track: source,
+        plan: plan.clone(),
+    };
+    match error {
+        Some(e) => Err(e.context(format!(
+            "the run failed at t = {:.4} s{}; the results so far are in {}",
+            simulated_time_s,
+            diagnostic
+                .as_ref()
+                .map_or(String::new(), |d| format!(" ({})", d.headline())),
+            req.output.display()
+        ))),
+        None => Ok(Attempt::Done(Box::new(summary))),
+    }
+}

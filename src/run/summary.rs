@@ -1,0 +1,238 @@
+//! What a run reports: per-wheelset figures, the energy bookkeeping and the
+//! run's counters ([`RunSummary`]), and its text form.
+
+use crate::session::track::TrackSource;
+
+use runtime::dynamics::system::EnergyLedger;
+use runtime::schema::results::RunResults;
+use serde::Serialize;
+
+/// Per-wheelset figures of a run.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct WheelsetSummary {
+    pub name: String,
+    /// Largest |lateral displacement| from the centreline (mm).
+    pub peak_lateral_mm: f64,
+    /// Lateral displacement at the end (mm).
+    pub final_lateral_mm: f64,
+    /// Distance travelled by the left and right wheels along their rails (m).
+    pub travelled_left_m: f64,
+    pub travelled_right_m: f64,
+    /// Time with flange contact (s), left and right (from the samples).
+    pub flange_contact_left_s: f64,
+    pub flange_contact_right_s: f64,
+    /// Number of separate flange contacts (onsets in the samples).
+    pub flange_contact_events: u64,
+    /// Nadal's criterion per wheel, left then right ([`crate::run::diagnostics`]).
+    pub nadal: Vec<crate::run::diagnostics::WheelNadal>,
+}
+
+/// The energy bookkeeping of a run (J;
+/// `runtime::dynamics::system::EnergyLedger`): E − E0 = axle torque work +
+/// reference work + element turning work − creep, contact damping and
+/// damper dissipation, up to `residual_j`.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct EnergySummary {
+    /// Mechanical energy (kinetic, gravity, springs, Hertz) at the start and
+    /// the end (J).
+    pub initial_j: f64,
+    pub final_j: f64,
+    pub axle_torque_work_j: f64,
+    pub reference_work_j: f64,
+    pub creep_dissipation_j: f64,
+    pub contact_damping_dissipation_j: f64,
+    pub damper_dissipation_j: f64,
+    /// Work of the spring–dampers beyond their potential: their directions
+    /// turn with their first body (J).
+    pub element_turning_work_j: f64,
+    /// What the balance leaves unexplained (J).
+    pub residual_j: f64,
+}
+
+impl From<&EnergyLedger> for EnergySummary {
+    fn from(l: &EnergyLedger) -> Self {
+        EnergySummary {
+            initial_j: l.initial_energy_j,
+            final_j: l.energy_j,
+            axle_torque_work_j: l.axle_torque_work_j,
+            reference_work_j: l.reference_work_j,
+            creep_dissipation_j: l.creep_dissipation_j,
+            contact_damping_dissipation_j: l.contact_damping_dissipation_j,
+            damper_dissipation_j: l.damper_dissipation_j,
+            element_turning_work_j: l.element_turning_work_j,
+            residual_j: l.residual_j(),
+        }
+    }
+}
+
+/// The `--json` summary of a run.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct RunSummary {
+    pub scene: String,
+    pub title: String,
+    pub output: String,
+    pub plots: Vec<String>,
+    pub creep_law: String,
+    pub contact_method: String,
+    pub integrator: String,
+    pub speed_m_s: f64,
+    /// Simulated time (s), the wall time of the integration (s) and their
+    /// ratio (> 1: faster than real time).
+    pub simulated_time_s: f64,
+    pub wall_time_s: f64,
+    pub real_time_factor: f64,
+    /// Wall time before the integration: tables, vehicle, settling (s).
+    pub setup_time_s: f64,
+    pub steps: u64,
+    pub rejected_steps: u64,
+    pub rhs_evaluations: u64,
+    pub output_samples: usize,
+    pub contact_solves: u64,
+    pub mean_newton_iterations: f64,
+    pub cold_starts: u64,
+    /// Flange pieces not searched (auto rule or off) and clear pieces not
+    /// searched again.
+    pub flange_searches_skipped: u64,
+    /// Accepted states with a flange in contact, summed over the wheels.
+    pub flange_contact_states: u64,
+    pub wheelsets: Vec<WheelsetSummary>,
+    /// Fallbacks the run went through ([`crate::run::diagnostics`]).
+    pub fallbacks: crate::run::diagnostics::FallbackCounts,
+    /// Energy bookkeeping between the first and the last accepted state.
+    pub energy: Option<EnergySummary>,
+    /// Why the run ended before its end time: "interrupted" (Ctrl-C),
+    /// "end of track"; `None` when it completed.
+    pub stopped: Option<String>,
+    /// The error that ended the run, if any (the results so far are written).
+    pub error: Option<String>,
+    pub track: TrackSource,
+    /// What the planner decided ([`crate::session::plan`]).
+    pub plan: crate::session::plan::Plan,
+}
+
+pub(crate) fn wheelset_summaries(r: &RunResults) -> Vec<WheelsetSummary> {
+    let dt = |i: usize| -> f64 {
+        if i + 1 < r.time_s.len() {
+            r.time_s[i + 1] - r.time_s[i]
+        } else {
+            0.0
+        }
+    };
+    r.wheelsets
+        .iter()
+        .map(|w| {
+            let peak =
+                w.lateral_m.iter().fold(
+                    0.0_f64,
+                    |m, v| if v.is_finite() { m.max(v.abs()) } else { m },
+                );
+            let time_in = |flags: &[u8]| -> f64 {
+                // 0.0 + …: an empty f64 sum is −0.0.
+                0.0 + flags
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, f)| **f == 1)
+                    .map(|(i, _)| dt(i))
+                    .sum::<f64>()
+            };
+            let events = w
+                .wheels
+                .iter()
+                .map(|wh| {
+                    wh.flange_contact
+                        .windows(2)
+                        .filter(|p| p[0] == 0 && p[1] == 1)
+                        .count() as u64
+                        + u64::from(wh.flange_contact.first() == Some(&1))
+                })
+                .sum();
+            WheelsetSummary {
+                name: w.name.clone(),
+                peak_lateral_mm: peak * 1e3,
+                final_lateral_mm: w.lateral_m.last().copied().unwrap_or(f64::NAN) * 1e3,
+                travelled_left_m: w.wheels[0].travelled_m.last().copied().unwrap_or(0.0),
+                travelled_right_m: w.wheels[1].travelled_m.last().copied().unwrap_or(0.0),
+                flange_contact_left_s: time_in(&w.wheels[0].flange_contact),
+                flange_contact_right_s: time_in(&w.wheels[1].flange_contact),
+                flange_contact_events: events,
+                nadal: crate::run::diagnostics::nadal_summary(w, &r.time_s),
+            }
+        })
+        .collect()
+}
+
+impl RunSummary {
+    /// Human-readable summary.
+    pub fn to_text(&self) -> String {
+        let mut s = format!(
+            "{}\n  {} → {}\n  creep law {}, contact {}, integrator {}, {} m/s\n  simulated {:.3} s in {:.3} s wall (real-time factor {:.2}; setup {:.2} s)\n  {} steps ({} rejected), {} evaluations, {} contact solves ({:.2} Newton iterations each, {} cold starts)\n",
+            self.title,
+            self.scene,
+            self.output,
+            self.creep_law,
+            self.contact_method,
+            self.integrator,
+            self.speed_m_s,
+            self.simulated_time_s,
+            self.wall_time_s,
+            self.real_time_factor,
+            self.setup_time_s,
+            self.steps,
+            self.rejected_steps,
+            self.rhs_evaluations,
+            self.contact_solves,
+            self.mean_newton_iterations,
+            self.cold_starts
+        );
+        for w in &self.wheelsets {
+            s += &format!(
+                "  wheelset {}: peak lateral {:.2} mm (final {:+.2} mm); travelled left {:.3} m, right {:.3} m; flange contact {:.2} s / {:.2} s ({} events)\n",
+                w.name,
+                w.peak_lateral_mm,
+                w.final_lateral_mm,
+                w.travelled_left_m,
+                w.travelled_right_m,
+                w.flange_contact_left_s,
+                w.flange_contact_right_s,
+                w.flange_contact_events
+            );
+        }
+        if let Some(e) = &self.energy {
+            s += &format!(
+                "  energy: {:.1} J → {:.1} J; axle torque work {:.1} J, reference work {:.1} J, element turning {:.3} J, creep dissipation {:.1} J, contact damping {:.1} J, dampers {:.1} J; residual {:.3} J\n",
+                e.initial_j,
+                e.final_j,
+                e.axle_torque_work_j,
+                e.reference_work_j,
+                e.element_turning_work_j,
+                e.creep_dissipation_j,
+                e.contact_damping_dissipation_j,
+                e.damper_dissipation_j,
+                e.residual_j
+            );
+        }
+        for w in &self.wheelsets {
+            s += &crate::run::diagnostics::nadal_text(&w.name, &w.nadal);
+        }
+        s += &self.fallbacks.to_text();
+        if let Some(st) = &self.stopped {
+            s += &format!("  stopped early: {st}\n");
+        }
+        if let Some(r) = &self.plan.revised {
+            s += &format!("  plan revised: {r}\n");
+        }
+        for p in &self.plots {
+            s += &format!("  plot {p}\n");
+        }
+        s += &format!(
+            "  track {} ({})\n",
+            self.track.path,
+            if self.track.built {
+                format!("built in {:.2} s", self.track.build_time_s)
+            } else {
+                "cached".into()
+            }
+        );
+        s
+    }
+}

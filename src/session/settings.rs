@@ -1,0 +1,88 @@
+//! The runtime's [`SystemSettings`] from a scene: force models, contact
+//! method (building or reading the contact tables when `method = "table"`),
+//! speed and start.
+
+use crate::session::contact::{contact_tables, imported_table};
+use std::sync::Arc;
+
+use anyhow::{Context, Result};
+use runtime::contact::{ContactOptions, FlangeSearch};
+use runtime::contact_force::ContactForceSettings;
+use runtime::creepage::CreepageOptions;
+use runtime::dynamics::imported_contact::ImportedContactMethod;
+use runtime::dynamics::{ContactMethod, SystemSettings};
+use runtime::hertz::Material;
+use runtime::normal::NormalForceModel;
+use runtime::track::TrackTables;
+
+use crate::config::scene::LoadedScene;
+use crate::config::vehicle::VehicleFile;
+
+/// The system settings of a scene (force models, contact method — building
+/// or reading the contact tables when `method = "table"` — speed, start).
+pub fn system_settings(
+    ls: &LoadedScene,
+    vfile: &VehicleFile,
+    track: &TrackTables,
+) -> Result<SystemSettings> {
+    let scene = &ls.scene;
+    let rail_path = ls.path(&scene.track.rail_profile);
+    let material = Material {
+        young_pa: scene.contact.young_pa,
+        poisson: scene.contact.poisson,
+    };
+    let creep_law = scene.creep_law()?;
+    let method = match scene.contact.method.as_str() {
+        "table" => ContactMethod::Table(contact_tables(vfile, track, &rail_path, material)?),
+        "imported" => {
+            let path = ls.path(
+                scene
+                    .contact
+                    .imported_table
+                    .as_ref()
+                    .context("[contact] imported_table")?,
+            );
+            let table = Arc::new(imported_table(&path)?);
+            ContactMethod::Imported(ImportedContactMethod {
+                tables: vec![table; vfile.wheelsets.len()],
+                shear_modulus_override_pa: scene.contact.shear_modulus_pa,
+            })
+        }
+        _ => ContactMethod::Online,
+    };
+    let flange: FlangeSearch = scene.contact.flange.parse().map_err(anyhow::Error::msg)?;
+    let settings = SystemSettings {
+        forces: ContactForceSettings {
+            material,
+            friction_coefficient: scene.contact.friction,
+            creep_law,
+            normal: NormalForceModel {
+                restitution: scene.contact.restitution,
+                ..NormalForceModel::default()
+            },
+            creepage: CreepageOptions {
+                min_rolling_speed_m_s: scene.contact.min_rolling_speed_m_s,
+            },
+            non_hertzian: scene
+                .contact
+                .non_hertzian
+                .parse()
+                .map_err(anyhow::Error::msg)
+                .context("[contact] non_hertzian")?,
+        },
+        contact: ContactOptions {
+            flange,
+            ..ContactOptions::default()
+        },
+        method,
+        speed_m_s: scene.initial.speed_m_s,
+        deceleration_m_s2: scene.initial.deceleration_m_s2,
+        acceleration_m_s2: scene.initial.acceleration_m_s2,
+        final_speed_m_s: scene.initial.final_speed_m_s,
+        axle_torque_nm: scene.run.axle_torque_nm,
+        axle_brake_torque_nm: scene.run.axle_brake_torque_nm,
+        s_start_m: scene.initial.s_m,
+        ..SystemSettings::default()
+    };
+    Ok(settings)
+}

@@ -1,0 +1,126 @@
+//! The vehicle file as a runtime [`VehicleModel`]: profiles loaded, bodies,
+//! references and suspension elements resolved by name.
+
+use std::path::Path;
+
+use anyhow::{Context, Result, anyhow, ensure};
+use nalgebra::{Matrix3, Vector3};
+use runtime::body::RigidBody;
+use runtime::contact::WheelsetContactModel;
+use runtime::dynamics::{BodySpec, ElementSpec, End, ReferenceSpec, VehicleModel, WheelsetSpec};
+use runtime::profile::{RailPlacement, RailProfileOptions, WheelProfileOptions};
+use runtime::profile_import::{ImportOptions, load_rail, load_wheel};
+use runtime::track::TrackTables;
+
+use crate::config::vehicle::{GROUND, VehicleFile};
+
+fn diag(i: [f64; 3]) -> Matrix3<f64> {
+    Matrix3::from_diagonal(&Vector3::from(i))
+}
+
+/// The vehicle file as a [`VehicleModel`] on `track` (its rail placement)
+/// with the scene's rail profile.
+pub fn vehicle_model(v: &VehicleFile, track: &TrackTables, rail: &Path) -> Result<VehicleModel> {
+    let rail_profile = load_rail(
+        rail,
+        &ImportOptions::default(),
+        RailProfileOptions::default(),
+    )
+    .with_context(|| format!("rail profile {}", rail.display()))?;
+    let placement = RailPlacement {
+        gauge_m: track.meta.gauge_m,
+        rail_spacing_m: track.meta.rail_spacing_m,
+        inclination_rad: track.meta.rail_inclination_rad,
+    };
+    let mut wheelsets = Vec::new();
+    for w in &v.wheelsets {
+        let path = v.profile_path(w);
+        let wheel = load_wheel(
+            &path,
+            &ImportOptions::default(),
+            WheelProfileOptions {
+                nominal_radius_m: w.nominal_radius_m,
+                ..Default::default()
+            },
+        )
+        .with_context(|| format!("wheel profile {}", path.display()))?;
+        let contact = WheelsetContactModel::new(
+            wheel.clone(),
+            wheel,
+            w.back_to_back_m,
+            &rail_profile,
+            &rail_profile,
+            placement,
+        )
+        .with_context(|| format!("wheelset '{}'", w.name))?;
+        wheelsets.push(WheelsetSpec {
+            name: w.name.clone(),
+            body: RigidBody {
+                mass_kg: w.mass_kg,
+                inertia_kg_m2: diag(w.inertia_kg_m2),
+            },
+            contact,
+            x_m: w.x_m,
+            y_m: w.y_m,
+            nominal_radius_m: w.nominal_radius_m,
+            static_wheel_load_n: v.static_wheel_load_n(w),
+        });
+    }
+    let bodies: Vec<BodySpec> = v
+        .bodies
+        .iter()
+        .map(|b| BodySpec {
+            name: b.name.clone(),
+            body: RigidBody {
+                mass_kg: b.mass_kg,
+                inertia_kg_m2: diag(b.inertia_kg_m2),
+            },
+            cg_m: Vector3::from(b.cg_m),
+        })
+        .collect();
+    let references: Vec<ReferenceSpec> = v
+        .references
+        .iter()
+        .map(|r| ReferenceSpec {
+            name: r.name.clone(),
+            origin_m: Vector3::from(r.origin_m),
+        })
+        .collect();
+    let end = |name: &str| -> Result<End> {
+        if name == GROUND {
+            return Ok(End::Ground);
+        }
+        if let Some(i) = v.wheelsets.iter().position(|w| w.name == name) {
+            return Ok(End::Wheelset(i));
+        }
+        if let Some(i) = v.bodies.iter().position(|b| b.name == name) {
+            return Ok(End::Body(i));
+        }
+        if let Some(i) = v.references.iter().position(|r| r.name == name) {
+            return Ok(End::Reference(i));
+        }
+        Err(anyhow!("unknown body '{name}'"))
+    };
+    let mut elements = Vec::new();
+    for e in &v.elements {
+        let (pa, pb) = e.points()?;
+        elements.push(ElementSpec {
+            name: e.name.clone(),
+            a: end(&e.body_a)?,
+            b: end(&e.body_b)?,
+            point_a_m: Vector3::from(pa),
+            point_b_m: Vector3::from(pb),
+            stiffness_n_m: e.stiffness_n_m,
+            damping_n_s_m: e.damping_n_s_m,
+            preload_n: Vector3::from(e.preload_n),
+        });
+    }
+    ensure!(!wheelsets.is_empty(), "the vehicle has no wheelset");
+    Ok(VehicleModel {
+        name: v.name.clone(),
+        wheelsets,
+        bodies,
+        references,
+        elements,
+    })
+}

@@ -1,0 +1,9 @@
+//! Studies: many runs (or evaluations) of one scene varied in a typed way,
+//! their results used in memory.
+
+pub mod bifurcation;
+pub mod compare_tables;
+pub mod contact;
+pub mod creep_curves;
+pub mod critical_speed;
+pub mod tradeoff;
