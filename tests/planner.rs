@@ -11,8 +11,8 @@ mod common;
 use std::path::Path;
 
 use common::*;
-use railsim::config::scene::LoadedScene;
-use railsim::run::{RunRequest, run_scene_with_plan};
+use railsim::config::scene::{ContactMethodKind, FlangeMode, LoadedScene, PlanMode};
+use railsim::report::run_files::{RunRequest, run_to_files};
 use railsim::session::plan::{By, FlangeGuard, Plan, TrackFacts, build_track_range};
 use runtime::schema::results::read_results;
 use serde_json::Value;
@@ -456,15 +456,15 @@ step_s = 5e-4
     let ls = LoadedScene::from_text(&text, dir.clone(), &[], "guard test".into()).expect("scene");
     // A plan with the flange search off and a guard the 2 mm start trips.
     let plan = Plan {
-        mode: "required".into(),
+        mode: PlanMode::Required,
         decisions: vec![railsim::session::plan::Decision {
             item: "flange_search".into(),
             value: "off".into(),
             by: By::Planner,
             reason: "test".into(),
         }],
-        flange: "off".into(),
-        method: "online".into(),
+        flange: FlangeMode::Off,
+        method: ContactMethodKind::Online,
         step_m: Some(1.0),
         range_m: None,
         straight_m: Some(60.0),
@@ -490,13 +490,13 @@ step_s = 5e-4
         output: dir.join("guard.h5"),
         plots: None,
     };
-    let s = run_scene_with_plan(&req, plan, &mut |_| {}, None).expect("run");
+    let s = run_to_files(&req, plan, &mut |_| {}, None).expect("run");
     let why = s.plan.revised.as_deref().expect("revised");
     assert!(
         why.starts_with("flange search off → auto") && why.contains("wheelset 'front'"),
         "{why}"
     );
-    assert_eq!(s.plan.flange, "auto");
+    assert_eq!(s.plan.flange, FlangeMode::Auto);
     assert!(s.plan.flange_guard.is_none());
     assert!(s.to_text().contains("plan revised"));
     assert!(s.stopped.is_none() && s.error.is_none(), "{s:?}");

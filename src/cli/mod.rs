@@ -175,8 +175,8 @@ pub struct CriticalSpeedArgs {
     #[arg(value_name = "SCENE.toml")]
     pub scene: PathBuf,
     /// Creep law (repeatable) [default: the scene's].
-    #[arg(long = "creep", value_name = "LAW", value_parser = CreepLaw::NAMES)]
-    pub creep: Vec<String>,
+    #[arg(long = "creep", value_name = "LAW")]
+    pub creep: Vec<crate::config::scene::CreepLawName>,
     /// Lowest speed of the search [m/s].
     #[arg(long, default_value_t = 10.0, value_name = "V")]
     pub min: f64,
@@ -250,7 +250,7 @@ pub struct RunArgs {
 
 impl RunArgs {
     /// Second stage: the checked request.
-    pub fn to_request(&self) -> Result<crate::run::RunRequest> {
+    pub fn to_request(&self) -> Result<crate::report::run_files::RunRequest> {
         use crate::config::scene::LoadedScene;
         let mut set = self.set.clone();
         if self.plan {
@@ -293,7 +293,7 @@ impl RunArgs {
                 PathBuf::from(p)
             }))
         };
-        Ok(crate::run::RunRequest {
+        Ok(crate::report::run_files::RunRequest {
             scene,
             output,
             plots,
@@ -622,7 +622,7 @@ fn run_command(args: &RunArgs) -> Result<()> {
             p.simulated_s, p.total_s, rtf
         ));
     };
-    let result = crate::run::run_scene_with_plan(&req, plan, &mut progress, Some(stop));
+    let result = crate::report::run_files::run_to_files(&req, plan, &mut progress, Some(stop));
     bar.finish_and_clear();
     let summary = result?;
     if args.json {
@@ -642,7 +642,7 @@ fn critical_speed_command(args: &CriticalSpeedArgs) -> Result<()> {
 
     let scene = crate::config::scene::LoadedScene::load(&args.scene, &args.set)?;
     let laws = if args.creep.is_empty() {
-        vec![scene.scene.contact.creep_law.clone()]
+        vec![scene.scene.contact.creep_law]
     } else {
         args.creep.clone()
     };
@@ -675,7 +675,13 @@ fn critical_speed_command(args: &CriticalSpeedArgs) -> Result<()> {
     // themselves.
     let ramps: Vec<Result<_>> = if settings.methods.iter().any(|m| m == "ramp") {
         if !args.json {
-            eprintln!("{}: ramp …", laws.join(", "));
+            eprintln!(
+                "{}: ramp …",
+                laws.iter()
+                    .map(|l| l.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
         }
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(settings.jobs.max(1))
@@ -684,7 +690,7 @@ fn critical_speed_command(args: &CriticalSpeedArgs) -> Result<()> {
         pool.install(|| {
             use rayon::prelude::*;
             laws.par_iter()
-                .map(|law| ramp(&scene, law, &settings, stop.clone()))
+                .map(|law| ramp(&scene, *law, &settings, stop.clone()))
                 .collect()
         })
     } else {
@@ -698,9 +704,9 @@ fn critical_speed_command(args: &CriticalSpeedArgs) -> Result<()> {
                 eprintln!("{law}, {method} …");
             }
             let r = match method.as_str() {
-                "time" => time_domain(&scene, law, &settings, stop.clone()),
+                "time" => time_domain(&scene, *law, &settings, stop.clone()),
                 "ramp" => ramps.next().context("one ramp per law")?,
-                _ => linear_domain(&scene, law, &settings, stop.clone()),
+                _ => linear_domain(&scene, *law, &settings, stop.clone()),
             }
             .with_context(|| format!("{law}, {method}"))?;
             report.results.push(r);

@@ -2,6 +2,10 @@
 //! each checked by one `validate()` that names the violated rule
 //! (`docs/reference/10-scene-files.md`, `docs/reference/11-vehicle-files.md`).
 
+pub mod choices;
 pub mod load;
 pub mod scene;
+pub mod variation;
 pub mod vehicle;
+
+pub use variation::Variation;

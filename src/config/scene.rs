@@ -75,6 +75,11 @@ use runtime::dynamics::track_motion::SpeedRamp;
 use runtime::integrator::{Dopri5, Method, Rk4};
 use serde::{Deserialize, Serialize};
 
+pub use super::choices::{
+    ContactMethodKind, CreepLawName, FlangeMode, IntegratorKind, NonHertzianMode, PlanItem,
+    PlanMode, PolachPreset,
+};
+
 /// The track: a table file, or CSV inputs built on demand (and cached).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -141,7 +146,7 @@ pub struct ContactSection {
     /// `imported` (one contact per wheel from a table computed by another
     /// code, `imported_table`; `runtime::dynamics::imported_contact`).
     #[serde(default = "default_method")]
-    pub method: String,
+    pub method: ContactMethodKind,
     /// With `method = "imported"`: the table, for every wheelset — a `.h5`
     /// (or `.hdf5`) written by `track-preproc import-contact-table`, or
     /// anything else read as a DYTSI RSGEO text table on the fly.
@@ -153,13 +158,13 @@ pub struct ContactSection {
     pub shear_modulus_pa: Option<f64>,
     /// Flange search: `off`, `on` or `auto`.
     #[serde(default = "default_flange")]
-    pub flange: String,
+    pub flange: FlangeMode,
     /// `kalker`, `heuristic`, `polach`, `fastsim` or `none`.
     #[serde(default = "default_creep")]
-    pub creep_law: String,
+    pub creep_law: CreepLawName,
     /// Polach parameter set: `1999`, `dry-2005`, `wet-2005`.
     #[serde(default = "default_polach")]
-    pub polach_preset: String,
+    pub polach_preset: PolachPreset,
     /// FASTSIM discretisation (strips × elements per strip).
     #[serde(default)]
     pub fastsim_strips: Option<usize>,
@@ -184,24 +189,24 @@ pub struct ContactSection {
     /// or `floor` (go on with floored curvatures, flagged and counted;
     /// `runtime::contact_force::NonHertzianPolicy`).
     #[serde(default = "default_non_hertzian")]
-    pub non_hertzian: String,
+    pub non_hertzian: NonHertzianMode,
 }
 
-fn default_non_hertzian() -> String {
-    "stop".into()
+fn default_non_hertzian() -> NonHertzianMode {
+    NonHertzianMode::Stop
 }
 
-fn default_method() -> String {
-    "online".into()
+fn default_method() -> ContactMethodKind {
+    ContactMethodKind::Online
 }
-fn default_flange() -> String {
-    "auto".into()
+fn default_flange() -> FlangeMode {
+    FlangeMode::Auto
 }
-fn default_creep() -> String {
-    "polach".into()
+fn default_creep() -> CreepLawName {
+    CreepLawName::Polach
 }
-fn default_polach() -> String {
-    "1999".into()
+fn default_polach() -> PolachPreset {
+    PolachPreset::P1999
 }
 fn default_friction() -> f64 {
     0.3
@@ -271,7 +276,7 @@ pub struct RunSection {
     pub duration_s: Option<f64>,
     /// `rk4` or `dopri5`.
     #[serde(default = "default_integrator")]
-    pub integrator: String,
+    pub integrator: IntegratorKind,
     /// RK4 step (s).
     #[serde(default = "default_step_s")]
     pub step_s: f64,
@@ -300,8 +305,8 @@ pub struct RunSection {
     pub lateral_tolerance_m: Option<f64>,
 }
 
-fn default_integrator() -> String {
-    "rk4".into()
+fn default_integrator() -> IntegratorKind {
+    IntegratorKind::Rk4
 }
 fn default_step_s() -> f64 {
     2e-4
@@ -350,15 +355,33 @@ pub struct PlanSection {
     /// out) or `everything` (the reference: flange always searched, online
     /// contact, the finest table step, the whole track).
     #[serde(default = "default_plan_mode")]
-    pub mode: String,
+    pub mode: PlanMode,
     /// Items the planner chooses even when the scene sets them (with
     /// `mode = "required"`): `flange`, `method`, `step`, `range`, or `all`.
     #[serde(default)]
-    pub choose: Vec<String>,
+    pub choose: Vec<PlanItem>,
 }
 
-fn default_plan_mode() -> String {
-    "scene".into()
+fn default_plan_mode() -> PlanMode {
+    PlanMode::Scene
+}
+
+impl PlanSection {
+    /// Checks the section: `choose` goes with `mode = "required"`.
+    pub fn validate(&self) -> Result<()> {
+        ensure!(
+            self.choose.is_empty() || self.mode == PlanMode::Required,
+            "[plan] choose goes with mode = \"required\""
+        );
+        Ok(())
+    }
+
+    /// Whether the planner chooses `item` even when the scene sets it.
+    pub fn chooses(&self, item: PlanItem) -> bool {
+        self.choose
+            .iter()
+            .any(|c| *c == item || *c == PlanItem::All)
+    }
 }
 
 impl Default for PlanSection {
@@ -419,15 +442,32 @@ impl LoadedScene {
         for o in overrides {
             apply_override(&mut table, o).with_context(|| format!("--set {o}"))?;
         }
-        let text = if overrides.is_empty() {
-            text.to_string()
-        } else {
-            format!(
-                "# overrides: {}\n{}",
-                overrides.join(" "),
-                toml::to_string(&table)?
-            )
-        };
+        if overrides.is_empty() {
+            let scene: Scene = table.try_into().context("the scene's entries")?;
+            scene.validate()?;
+            return Ok(LoadedScene {
+                scene,
+                dir,
+                text: text.to_string(),
+                origin,
+            });
+        }
+        Self::from_table(table, dir, overrides, origin)
+    }
+
+    /// A scene from its entries after `overrides` (`key=value`, recorded
+    /// in the text's first line), checked.
+    pub(crate) fn from_table(
+        table: toml::Table,
+        dir: PathBuf,
+        overrides: &[String],
+        origin: String,
+    ) -> Result<LoadedScene> {
+        let text = format!(
+            "# overrides: {}\n{}",
+            overrides.join(" "),
+            toml::to_string(&table)?
+        );
         let scene: Scene = table.try_into().context("the scene's entries")?;
         scene.validate()?;
         Ok(LoadedScene {
@@ -530,18 +570,16 @@ impl Scene {
             t.gauge_m
         );
         let c = &self.contact;
-        ensure!(
-            ["online", "table", "imported"].contains(&c.method.as_str()),
-            "[contact] method '{}' is not online, table or imported",
-            c.method
-        );
-        if c.method == "imported" {
+        if c.method == ContactMethodKind::Imported {
             ensure!(
                 c.imported_table.is_some(),
                 "[contact] method = \"imported\" needs imported_table (a .h5 from track-preproc import-contact-table, or an RSGEO .dat)"
             );
             ensure!(
-                ["heuristic", "kalker", "none"].contains(&c.creep_law.as_str()),
+                matches!(
+                    c.creep_law,
+                    CreepLawName::Heuristic | CreepLawName::Kalker | CreepLawName::None
+                ),
                 "[contact] creep_law '{}' is not available with method = \"imported\" (the table brings its own Kalker coefficients): use heuristic, kalker or none",
                 c.creep_law
             );
@@ -557,14 +595,6 @@ impl Scene {
                 "[contact] shear_modulus_pa = {g} must be finite and > 0"
             );
         }
-        c.flange
-            .parse::<runtime::contact::FlangeSearch>()
-            .map_err(anyhow::Error::msg)
-            .context("[contact] flange")?;
-        c.non_hertzian
-            .parse::<runtime::contact_force::NonHertzianPolicy>()
-            .map_err(anyhow::Error::msg)
-            .context("[contact] non_hertzian")?;
         self.creep_law()?;
         ensure!(
             c.friction.is_finite() && c.friction >= 0.0 && c.friction <= 2.0,
@@ -679,7 +709,7 @@ impl Scene {
                 "[run] lateral_tolerance_m = {tol} must be finite and > 0 (m)"
             );
         }
-        crate::session::plan::validate_section(&self.plan)?;
+        self.plan.validate()?;
         Ok(())
     }
 
@@ -709,18 +739,13 @@ impl Scene {
     /// The creep law with its parameters.
     pub fn creep_law(&self) -> Result<CreepLaw> {
         let c = &self.contact;
-        let law = match c.creep_law.as_str() {
-            "polach" => {
-                let (params, _) = PolachParams::preset(&c.polach_preset).with_context(|| {
-                    format!(
-                        "[contact] polach_preset '{}' is not one of {:?}",
-                        c.polach_preset,
-                        PolachParams::PRESET_NAMES
-                    )
-                })?;
+        let law = match c.creep_law {
+            CreepLawName::Polach => {
+                let (params, _) = PolachParams::preset(c.polach_preset.as_str())
+                    .context("[contact] polach_preset: a preset the creep law does not know")?;
                 CreepLaw::Polach(params)
             }
-            "fastsim" => {
+            CreepLawName::Fastsim => {
                 let mut p = FastsimParams::default();
                 if let Some(k) = c.fastsim_strips {
                     p.strips = k;
@@ -730,12 +755,9 @@ impl Scene {
                 }
                 CreepLaw::Fastsim(p)
             }
-            name => CreepLaw::from_name(name).with_context(|| {
-                format!(
-                    "[contact] creep_law '{name}' is not one of {:?}",
-                    CreepLaw::NAMES
-                )
-            })?,
+            CreepLawName::Kalker => CreepLaw::KalkerLinear,
+            CreepLawName::Heuristic => CreepLaw::Heuristic,
+            CreepLawName::None => CreepLaw::None,
         };
         law.validate().context("[contact] creep law parameters")?;
         Ok(law)
@@ -744,8 +766,8 @@ impl Scene {
     /// The integration method.
     pub fn method(&self) -> Result<Method> {
         let r = &self.run;
-        Ok(match r.integrator.as_str() {
-            "rk4" => {
+        Ok(match r.integrator {
+            IntegratorKind::Rk4 => {
                 ensure!(
                     r.step_s.is_finite() && r.step_s > 0.0 && r.step_s <= 0.01,
                     "[run] step_s = {} must lie in (0, 0.01] s",
@@ -753,7 +775,7 @@ impl Scene {
                 );
                 Method::Rk4(Rk4 { step_s: r.step_s })
             }
-            "dopri5" => {
+            IntegratorKind::Dopri5 => {
                 ensure!(
                     r.rtol > 0.0 && r.rtol < 1.0 && r.atol > 0.0,
                     "[run] rtol = {} must lie in (0, 1) and atol = {} be > 0",
@@ -772,7 +794,6 @@ impl Scene {
                     ..Dopri5::default()
                 })
             }
-            other => bail!("[run] integrator '{other}' is not rk4 or dopri5"),
         })
     }
 }
@@ -801,8 +822,8 @@ mod tests {
         ])
         .unwrap();
         assert_eq!(s.scene.initial.speed_m_s, 20.0);
-        assert_eq!(s.scene.contact.creep_law, "kalker");
-        assert_eq!(s.scene.run.integrator, "dopri5");
+        assert_eq!(s.scene.contact.creep_law, CreepLawName::Kalker);
+        assert_eq!(s.scene.run.integrator, IntegratorKind::Dopri5);
         assert!(s.text.starts_with("# overrides:"));
         let straight = LoadedScene::default_scene(&[
             "track.centerline=".into(),

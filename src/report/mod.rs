@@ -1,3 +1,4 @@
-//! Reports of results: plots (PNG) of a run.
+//! Reports of results: a run's results file and plots.
 
+pub mod run_files;
 pub mod run_plots;

@@ -1,12 +1,13 @@
-//! `sim run`: a scene from file (or the built-in single-wheelset case) to a
-//! results file, plots and a summary (SPEC §8). The track tables (and, with
+//! A run: a scene (with its plan) integrated in time to results in memory
+//! and a summary (SPEC §8); the caller writes them
+//! (`crate::report::run_files`). The track tables (and, with
 //! `method = "table"`, the contact lookup tables) are built on demand and
 //! cached ([`crate::session::cache`]); the vehicle file becomes a
 //! [`VehicleModel`]; the system is integrated with the scene's method while
 //! outputs are sampled at the scene's interval. Ctrl-C (a stop flag) ends
-//! the run at the next accepted step and the results so far are written,
-//! as they are when the run fails (derailment, a contact that cannot be
-//! solved): the error is then reported after writing.
+//! the run at the next accepted step with the results so far, as does a
+//! failure (derailment, a contact that cannot be solved): the error is
+//! kept in [`RunOutcome::failure`] so that the results can be written first.
 
 pub mod diagnostics;
 pub mod summary;
@@ -14,7 +15,6 @@ pub mod summary;
 pub use summary::{EnergySummary, RunSummary, WheelsetSummary};
 
 use crate::session::{settings::system_settings, track::load_track, vehicle::vehicle_model};
-use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
@@ -23,6 +23,7 @@ use summary::wheelset_summaries;
 use anyhow::{Context, Result, anyhow};
 use runtime::dynamics::{InitialConditions, Recorder, VehicleSystem};
 use runtime::integrator::{IntegrationStats, OutputGrid, integrate};
+use runtime::schema::results::RunResults;
 
 use crate::config::scene::LoadedScene;
 use crate::config::vehicle::VehicleFile;
@@ -37,37 +38,73 @@ pub struct RunProgress {
     pub wall_s: f64,
 }
 
-/// What to run and where to write.
-#[derive(Debug, Clone, PartialEq)]
-pub struct RunRequest {
-    pub scene: LoadedScene,
-    pub output: PathBuf,
-    /// Directory for the PNG plots; `None`: no plots.
-    pub plots: Option<PathBuf>,
+/// A run that ended, in memory: what the caller writes (the results file,
+/// plots) or uses directly (a study). Nothing is written by the run.
+#[derive(Debug)]
+pub struct RunOutcome {
+    /// The sampled time series with the run's attributes and scene text.
+    pub results: RunResults,
+    /// The figures of the run; `output` and `plots` are filled by whoever
+    /// writes them.
+    pub summary: RunSummary,
+    /// Why the run ended early with an error (derailment, a contact that
+    /// cannot be solved), if it did; the results hold the samples so far.
+    pub failure: Option<RunFailure>,
 }
 
-/// Runs a scene (module docs). `progress` is called every few hundred
-/// accepted steps; `stop` ends the run cleanly when set.
+/// The error that ended a run early.
+#[derive(Debug)]
+pub struct RunFailure {
+    /// Simulated time of the last sample (s).
+    pub at_s: f64,
+    /// The diagnostic's headline (time, wheelset, wheel, zone), if any.
+    pub headline: Option<String>,
+    pub error: anyhow::Error,
+}
+
+impl RunOutcome {
+    /// The summary, or the failure as an error that says where the
+    /// samples so far were written (`written_to`, e.g. the results file).
+    pub fn into_result(self, written_to: &str) -> Result<RunSummary> {
+        self.into_parts(written_to).1
+    }
+
+    /// The results, and the summary or the failure ([`Self::into_result`]).
+    pub fn into_parts(self, written_to: &str) -> (RunResults, Result<RunSummary>) {
+        let summary = match self.failure {
+            Some(f) => Err(f.error.context(format!(
+                "the run failed at t = {:.4} s{}; the results so far are in {written_to}",
+                f.at_s,
+                f.headline.map_or(String::new(), |h| format!(" ({h})")),
+            ))),
+            None => Ok(self.summary),
+        };
+        (self.results, summary)
+    }
+}
+
+/// Plans and runs a scene (module docs). `progress` is called every few
+/// hundred accepted steps; `stop` ends the run cleanly when set.
 pub fn run_scene(
-    req: &RunRequest,
+    scene: &LoadedScene,
     progress: &mut dyn FnMut(RunProgress),
     stop: Option<Arc<AtomicBool>>,
-) -> Result<RunSummary> {
-    let plan = crate::session::plan::plan(&req.scene).context("planning the run")?;
-    run_scene_with_plan(req, plan, progress, stop)
+) -> Result<RunOutcome> {
+    let plan = crate::session::plan::plan(scene).context("planning the run")?;
+    run_scene_with_plan(scene, plan, progress, stop)
 }
 
 /// Runs a scene with the decisions of [`crate::session::plan::plan`]; a run
 /// whose flange guard trips is repeated with the flange searched (`auto`).
 pub fn run_scene_with_plan(
-    req: &RunRequest,
+    scene: &LoadedScene,
     mut plan: crate::session::plan::Plan,
     progress: &mut dyn FnMut(RunProgress),
     stop: Option<Arc<AtomicBool>>,
-) -> Result<RunSummary> {
+) -> Result<RunOutcome> {
     loop {
-        match run_planned(req, &plan, progress, stop.clone())? {
-            Attempt::Done(summary) => return Ok(*summary),
+        match run_planned(scene, &plan, progress, stop.clone())? {
+            Attempt::Done(outcome) => return Ok(*outcome),
             Attempt::Revise(why) => plan.revise_flange(&why),
         }
     }
@@ -75,19 +112,19 @@ pub fn run_scene_with_plan(
 
 /// One run of a plan.
 enum Attempt {
-    Done(Box<RunSummary>),
+    Done(Box<RunOutcome>),
     /// The flange guard tripped (where, and the time lost).
     Revise(String),
 }
 
 fn run_planned(
-    req: &RunRequest,
+    scene_in: &LoadedScene,
     plan: &crate::session::plan::Plan,
     progress: &mut dyn FnMut(RunProgress),
     stop: Option<Arc<AtomicBool>>,
 ) -> Result<Attempt> {
     let setup_start = Instant::now();
-    let planned = plan.apply(&req.scene);
+    let planned = plan.apply(scene_in);
     let ls = &planned;
     let scene = &ls.scene;
     let (track, source) = load_track(ls).context("track tables")?;
@@ -227,10 +264,10 @@ fn run_planned(
         ("title".into(), scene.title.clone()),
         ("scene".into(), ls.origin.clone()),
         ("vehicle".into(), vfile.name.clone()),
-        ("creep_law".into(), scene.contact.creep_law.clone()),
-        ("contact_method".into(), scene.contact.method.clone()),
-        ("flange_search".into(), scene.contact.flange.clone()),
-        ("integrator".into(), scene.run.integrator.clone()),
+        ("creep_law".into(), scene.contact.creep_law.to_string()),
+        ("contact_method".into(), scene.contact.method.to_string()),
+        ("flange_search".into(), scene.contact.flange.to_string()),
+        ("integrator".into(), scene.run.integrator.to_string()),
         ("speed_m_s".into(), format!("{}", scene.initial.speed_m_s)),
         ("track".into(), source.path.clone()),
         ("plan".into(), plan.to_text()),
@@ -262,25 +299,14 @@ fn run_planned(
             &fallbacks,
             diagnostic.as_ref(),
         ));
-    runtime::schema::results::write_results(&req.output, &results)
-        .with_context(|| format!("writing the results {}", req.output.display()))?;
-    let plots = match &req.plots {
-        Some(dir) if !results.is_empty() => {
-            crate::report::run_plots::write_run_plots(&results, dir, &scene.title)?
-                .into_iter()
-                .map(|p| p.display().to_string())
-                .collect()
-        }
-        _ => Vec::new(),
-    };
     let summary = RunSummary {
         scene: ls.origin.clone(),
         title: scene.title.clone(),
-        output: req.output.display().to_string(),
-        plots,
-        creep_law: scene.contact.creep_law.clone(),
-        contact_method: scene.contact.method.clone(),
-        integrator: scene.run.integrator.clone(),
+        output: String::new(),
+        plots: Vec::new(),
+        creep_law: scene.contact.creep_law,
+        contact_method: scene.contact.method,
+        integrator: scene.run.integrator,
         speed_m_s: scene.initial.speed_m_s,
         simulated_time_s,
         wall_time_s,
@@ -311,15 +337,14 @@ fn run_planned(
         track: source,
         plan: plan.clone(),
     };
-    match error {
-        Some(e) => Err(e.context(format!(
-            "the run failed at t = {:.4} s{}; the results so far are in {}",
-            simulated_time_s,
-            diagnostic
-                .as_ref()
-                .map_or(String::new(), |d| format!(" ({})", d.headline())),
-            req.output.display()
-        ))),
-        None => Ok(Attempt::Done(Box::new(summary))),
-    }
+    let failure = error.map(|e| RunFailure {
+        at_s: simulated_time_s,
+        headline: diagnostic.as_ref().map(|d| d.headline()),
+        error: e,
+    });
+    Ok(Attempt::Done(Box::new(RunOutcome {
+        results,
+        summary,
+        failure,
+    })))
 }

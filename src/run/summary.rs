@@ -1,6 +1,7 @@
 //! What a run reports: per-wheelset figures, the energy bookkeeping and the
 //! run's counters ([`RunSummary`]), and its text form.
 
+use crate::config::scene::{ContactMethodKind, CreepLawName, IntegratorKind};
 use crate::session::track::TrackSource;
 
 use runtime::dynamics::system::EnergyLedger;
@@ -72,9 +73,9 @@ pub struct RunSummary {
     pub title: String,
     pub output: String,
     pub plots: Vec<String>,
-    pub creep_law: String,
-    pub contact_method: String,
-    pub integrator: String,
+    pub creep_law: CreepLawName,
+    pub contact_method: ContactMethodKind,
+    pub integrator: IntegratorKind,
     pub speed_m_s: f64,
     /// Simulated time (s), the wall time of the integration (s) and their
     /// ratio (> 1: faster than real time).

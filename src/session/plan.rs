@@ -35,7 +35,7 @@ use std::collections::BTreeSet;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use anyhow::{Context, Result, ensure};
+use anyhow::{Context, Result};
 use preproc::{BuildConfig, BuildRequest, Inclination, RailSpacing, TrackModel};
 use runtime::contact::quasi_static::flange_clearance_m;
 use runtime::dynamics::linear::linearise;
@@ -43,7 +43,7 @@ use runtime::dynamics::{InitialConditions, VehicleSystem};
 use runtime::track::{Side, TrackTables};
 use serde::Serialize;
 
-use crate::config::scene::{LoadedScene, PlanSection};
+use crate::config::scene::{ContactMethodKind, FlangeMode, LoadedScene, PlanItem, PlanMode};
 use crate::config::vehicle::VehicleFile;
 
 /// The items the planner may choose (`[plan] choose`).
@@ -260,13 +260,13 @@ pub struct FlangeFacts {
 /// The decisions for one run.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Plan {
-    /// `scene`, `required` or `everything`.
-    pub mode: String,
+    /// Who decided (`[plan] mode`).
+    pub mode: PlanMode,
     /// The block, in order.
     pub decisions: Vec<Decision>,
     /// The values to run with.
-    pub flange: String,
-    pub method: String,
+    pub flange: FlangeMode,
+    pub method: ContactMethodKind,
     /// Table step (m); `None` with a table file.
     pub step_m: Option<f64>,
     /// Track range (m); `None`: the whole track.
@@ -281,33 +281,6 @@ pub struct Plan {
     pub flange_facts: Option<FlangeFacts>,
     /// Wall time of the planning (s).
     pub planning_time_s: f64,
-}
-
-/// Checks a `[plan]` section.
-pub fn validate_section(p: &PlanSection) -> Result<()> {
-    ensure!(
-        ["scene", "required", "everything"].contains(&p.mode.as_str()),
-        "[plan] mode '{}' is not scene, required or everything",
-        p.mode
-    );
-    for c in &p.choose {
-        ensure!(
-            c == "all" || ITEMS.contains(&c.as_str()),
-            "[plan] choose: '{c}' is not one of {ITEMS:?} or all"
-        );
-    }
-    ensure!(
-        p.choose.is_empty() || p.mode == "required",
-        "[plan] choose goes with mode = \"required\""
-    );
-    Ok(())
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Mode {
-    Scene,
-    Required,
-    Everything,
 }
 
 /// Entries written in the scene (after the overrides): those force a choice.
@@ -596,10 +569,10 @@ fn hunting(
     s_start: f64,
 ) -> Result<Option<(f64, f64)>> {
     let mut check = ls.clone();
-    check.scene.contact.method = "online".into();
+    check.scene.contact.method = ContactMethodKind::Online;
     // Off: the centred run has no flange contact, and the assembly then
     // skips the flangeway clearance sweep.
-    check.scene.contact.flange = "off".into();
+    check.scene.contact.flange = FlangeMode::Off;
     let vehicle =
         crate::session::vehicle::vehicle_model(v, track, &ls.path(&ls.scene.track.rail_profile))?;
     let mut settings = crate::session::settings::system_settings(&check, v, track)?;
@@ -629,16 +602,10 @@ fn nice_step_m(h_m: f64) -> f64 {
 pub fn plan(ls: &LoadedScene) -> Result<Plan> {
     let start = Instant::now();
     let scene = &ls.scene;
-    let mode = match scene.plan.mode.as_str() {
-        "required" => Mode::Required,
-        "everything" => Mode::Everything,
-        _ => Mode::Scene,
-    };
+    let mode = scene.plan.mode;
     let explicit = explicit_entries(ls);
-    let all = scene.plan.choose.iter().any(|c| c == "all");
-    let planner_chooses = |item: &str, entry: &str| -> bool {
-        mode == Mode::Required
-            && (all || scene.plan.choose.iter().any(|c| c == item) || !explicit.contains(entry))
+    let planner_chooses = |item: PlanItem, entry: &str| -> bool {
+        mode == PlanMode::Required && (scene.plan.chooses(item) || !explicit.contains(entry))
     };
     let vfile = VehicleFile::load(&ls.path(&scene.vehicle.file))?;
     let wanted = required_range_m(ls, &vfile);
@@ -692,7 +659,7 @@ pub fn plan(ls: &LoadedScene) -> Result<Plan> {
             by: range_by,
             reason: "a table file is used as it is".into(),
         });
-    } else if mode == Mode::Everything {
+    } else if mode == PlanMode::Everything {
         range_m = None;
         decisions.push(Decision {
             item: "track_range".into(),
@@ -700,7 +667,7 @@ pub fn plan(ls: &LoadedScene) -> Result<Plan> {
             by: By::Everything,
             reason: "the whole track".into(),
         });
-    } else if planner_chooses("range", "track.range_m") {
+    } else if planner_chooses(PlanItem::Range, "track.range_m") {
         let whole = clipped[0] <= 0.0 && clipped[1] >= facts.length_m;
         if t.straight_m.is_some() {
             straight_m = Some(clipped[1].max(10.5).min(facts.length_m));
@@ -779,7 +746,7 @@ pub fn plan(ls: &LoadedScene) -> Result<Plan> {
             by: By::Scene,
             reason: "a table file is used as it is".into(),
         });
-    } else if mode == Mode::Everything {
+    } else if mode == PlanMode::Everything {
         step_m = Some(FINEST_STEP_M);
         decisions.push(Decision {
             item: "table_step".into(),
@@ -787,7 +754,7 @@ pub fn plan(ls: &LoadedScene) -> Result<Plan> {
             by: By::Everything,
             reason: "the finest step (sim tradeoff's reference)".into(),
         });
-    } else if planner_chooses("step", "track.step_m") {
+    } else if planner_chooses(PlanItem::Step, "track.step_m") {
         step_m = Some(planned_step);
         decisions.push(Decision {
             item: "table_step".into(),
@@ -808,11 +775,12 @@ pub fn plan(ls: &LoadedScene) -> Result<Plan> {
     // Flange search (decided before the method: the table needs no flange
     // contact to be expected).
     let c = &scene.contact;
-    let method_chosen = planner_chooses("method", "contact.method") && c.method != "imported";
-    let flange_chosen = planner_chooses("flange", "contact.flange");
+    let method_chosen = planner_chooses(PlanItem::Method, "contact.method")
+        && c.method != ContactMethodKind::Imported;
+    let flange_chosen = planner_chooses(PlanItem::Flange, "contact.flange");
     // The flange facts matter only where the flange search may be off: an
     // ideal straight with a contact that searches (not imported).
-    let straight = facts.straight() && c.method != "imported";
+    let straight = facts.straight() && c.method != ContactMethodKind::Imported;
     let (track, s_start) = check_track(ls, &vfile)?;
     let ffacts = if straight {
         flange_facts(ls, &vfile, &track)?
@@ -860,7 +828,7 @@ pub fn plan(ls: &LoadedScene) -> Result<Plan> {
     };
     // The linear check costs an assembly and a linearisation: only when the
     // planner decides and it can matter.
-    let run_linear = geometric_ok && mode != Mode::Scene && (flange_chosen || method_chosen);
+    let run_linear = geometric_ok && mode != PlanMode::Scene && (flange_chosen || method_chosen);
     // A check that cannot be made is no reason to fail the run: the flange
     // is then searched.
     let stability = if run_linear {
@@ -907,17 +875,17 @@ pub fn plan(ls: &LoadedScene) -> Result<Plan> {
     let tol = scene.run.lateral_tolerance_m;
     let (planned_method, method_reason) = match (tol, measured) {
         (None, _) => (
-            "online",
+            ContactMethodKind::Online,
             "no run.lateral_tolerance_m: the exact (online) contact".to_string(),
         ),
         (Some(tol), None) => (
-            "online",
+            ContactMethodKind::Online,
             format!(
                 "the contact table's error is not measured on a {kind} track; tolerance {tol:.1e} m"
             ),
         ),
         (Some(tol), Some(m)) if !m.max_lateral_error_m.is_finite() => (
-            "online",
+            ContactMethodKind::Online,
             format!(
                 "the contact table is unusable on a {kind} track: {}; tolerance {tol:.1e} m",
                 m.source
@@ -928,12 +896,12 @@ pub fn plan(ls: &LoadedScene) -> Result<Plan> {
             let est = m.max_lateral_error_m * scale;
             if kind == "straight" && !no_flange_expected {
                 (
-                    "online",
+                    ContactMethodKind::Online,
                     "flange contact cannot be ruled out, and the table's zero-yaw rows do not model a yawed flange's lead (measured without flange contact)".to_string(),
                 )
             } else if est <= tol {
                 (
-                    "table",
+                    ContactMethodKind::Table,
                     format!(
                         "measured error {:.2} µm{} ≤ tolerance {:.2} µm ({}); the table is built once per wheel/rail pair and cached",
                         est * 1e6,
@@ -948,7 +916,7 @@ pub fn plan(ls: &LoadedScene) -> Result<Plan> {
                 )
             } else {
                 (
-                    "online",
+                    ContactMethodKind::Online,
                     format!(
                         "measured table error {:.2} µm > tolerance {:.2} µm ({})",
                         est * 1e6,
@@ -960,37 +928,37 @@ pub fn plan(ls: &LoadedScene) -> Result<Plan> {
         }
     };
     let method;
-    if c.method == "imported" {
-        method = c.method.clone();
+    if c.method == ContactMethodKind::Imported {
+        method = c.method;
         decisions.push(Decision {
             item: "contact_method".into(),
-            value: method.clone(),
+            value: method.to_string(),
             by: By::Scene,
             reason: "an imported contact table (the scene's model of the contact)".into(),
         });
-    } else if mode == Mode::Everything {
-        method = "online".into();
+    } else if mode == PlanMode::Everything {
+        method = ContactMethodKind::Online;
         decisions.push(Decision {
             item: "contact_method".into(),
-            value: method.clone(),
+            value: method.to_string(),
             by: By::Everything,
             reason: "Newton at every evaluation".into(),
         });
     } else if method_chosen {
-        method = planned_method.into();
+        method = planned_method;
         decisions.push(Decision {
             item: "contact_method".into(),
-            value: method.clone(),
+            value: method.to_string(),
             by: By::Planner,
             reason: method_reason,
         });
     } else {
-        method = c.method.clone();
+        method = c.method;
         decisions.push(Decision {
             item: "contact_method".into(),
-            value: method.clone(),
+            value: method.to_string(),
             by: By::Scene,
-            reason: if mode == Mode::Scene {
+            reason: if mode == PlanMode::Scene {
                 "the planner decides with [plan] mode = \"required\" and run.lateral_tolerance_m"
                     .into()
             } else {
@@ -1001,10 +969,10 @@ pub fn plan(ls: &LoadedScene) -> Result<Plan> {
 
     let mut flange_guard = None;
     let flange;
-    if method == "table" && method_chosen && flange_chosen {
+    if method == ContactMethodKind::Table && method_chosen && flange_chosen {
         // Chosen only when no flange contact is expected: the assembly's
         // settling then needs no flange search (nor its clearance sweep).
-        flange = "off".into();
+        flange = FlangeMode::Off;
         decisions.push(Decision {
             item: "flange_search".into(),
             value: "off".into(),
@@ -1013,17 +981,17 @@ pub fn plan(ls: &LoadedScene) -> Result<Plan> {
                 "the table contact takes its flange contact from its table; off for the settling at assembly: {flange_reason}"
             ),
         });
-    } else if method != "online" {
-        flange = c.flange.clone();
+    } else if method != ContactMethodKind::Online {
+        flange = c.flange;
         decisions.push(Decision {
             item: "flange_search".into(),
-            value: if method == "imported" {
+            value: if method == ContactMethodKind::Imported {
                 "not used".into()
             } else {
                 format!("{} (settling only)", c.flange)
             },
             by: By::Scene,
-            reason: if method == "imported" {
+            reason: if method == ContactMethodKind::Imported {
                 "the imported contact takes its one contact per wheel from its table".into()
             } else {
                 format!(
@@ -1031,17 +999,21 @@ pub fn plan(ls: &LoadedScene) -> Result<Plan> {
                 )
             },
         });
-    } else if mode == Mode::Everything {
-        flange = "on".into();
+    } else if mode == PlanMode::Everything {
+        flange = FlangeMode::On;
         decisions.push(Decision {
             item: "flange_search".into(),
-            value: flange.clone(),
+            value: flange.to_string(),
             by: By::Everything,
             reason: "searched at every solve".into(),
         });
     } else if flange_chosen {
         let off = no_flange_expected;
-        flange = if off { "off" } else { "auto" }.into();
+        flange = if off {
+            FlangeMode::Off
+        } else {
+            FlangeMode::Auto
+        };
         if off {
             flange_guard = Some(FlangeGuard {
                 threshold_m: guard_threshold,
@@ -1050,7 +1022,7 @@ pub fn plan(ls: &LoadedScene) -> Result<Plan> {
         }
         decisions.push(Decision {
             item: "flange_search".into(),
-            value: flange.clone(),
+            value: flange.to_string(),
             by: By::Planner,
             reason: if off {
                 format!(
@@ -1062,10 +1034,10 @@ pub fn plan(ls: &LoadedScene) -> Result<Plan> {
             },
         });
     } else {
-        flange = c.flange.clone();
+        flange = c.flange;
         decisions.push(Decision {
             item: "flange_search".into(),
-            value: flange.clone(),
+            value: flange.to_string(),
             by: By::Scene,
             reason: format!(
                 "the planner {}: {flange_reason}",
@@ -1083,12 +1055,12 @@ pub fn plan(ls: &LoadedScene) -> Result<Plan> {
     // Creep law: stated, never chosen.
     let cost = CREEP_LAW_COST
         .iter()
-        .find(|(n, _)| *n == c.creep_law)
+        .find(|(n, _)| *n == c.creep_law.as_str())
         .map(|(_, f)| *f);
     let fastsim = CREEP_LAW_COST[3].1;
     decisions.push(Decision {
         item: "creep_law".into(),
-        value: c.creep_law.clone(),
+        value: c.creep_law.to_string(),
         by: By::Scene,
         reason: match cost {
             Some(f) => format!(
@@ -1101,7 +1073,7 @@ pub fn plan(ls: &LoadedScene) -> Result<Plan> {
     });
 
     Ok(Plan {
-        mode: scene.plan.mode.clone(),
+        mode: scene.plan.mode,
         decisions,
         flange,
         method,
@@ -1121,8 +1093,8 @@ impl Plan {
     pub fn apply(&self, ls: &LoadedScene) -> LoadedScene {
         let mut out = ls.clone();
         let s = &mut out.scene;
-        s.contact.flange = self.flange.clone();
-        s.contact.method = self.method.clone();
+        s.contact.flange = self.flange;
+        s.contact.method = self.method;
         if let Some(h) = self.step_m {
             s.track.step_m = h;
         }
@@ -1136,7 +1108,7 @@ impl Plan {
     /// The `off` flange search did not hold: search with `auto` (`why`
     /// says where the guard tripped).
     pub fn revise_flange(&mut self, why: &str) {
-        self.flange = "auto".into();
+        self.flange = FlangeMode::Auto;
         self.flange_guard = None;
         self.revised = Some(format!("flange search off → auto: {why}"));
         if let Some(d) = self
@@ -1256,20 +1228,21 @@ mod tests {
 
     #[test]
     fn plan_sections_are_checked() {
-        let ok = PlanSection {
-            mode: "required".into(),
-            choose: vec!["flange".into(), "all".into()],
-        };
-        assert!(validate_section(&ok).is_ok());
+        let ok = LoadedScene::default_scene(&[
+            "plan.mode=required".into(),
+            "plan.choose=[\"flange\", \"all\"]".into(),
+        ])
+        .expect("a valid [plan]");
+        assert!(ok.scene.plan.chooses(PlanItem::Step));
         for (mode, choose, what) in [
-            ("sometimes", vec![], "mode"),
-            ("required", vec!["integrator".to_string()], "integrator"),
-            ("scene", vec!["flange".to_string()], "choose"),
+            ("sometimes", "[]", "sometimes"),
+            ("required", "[\"integrator\"]", "integrator"),
+            ("scene", "[\"flange\"]", "choose"),
         ] {
-            let e = validate_section(&PlanSection {
-                mode: mode.into(),
-                choose,
-            })
+            let e = LoadedScene::default_scene(&[
+                format!("plan.mode={mode}"),
+                format!("plan.choose={choose}"),
+            ])
             .unwrap_err();
             assert!(format!("{e:#}").contains(what), "{e:#}");
         }

@@ -2,6 +2,7 @@
 //! method (building or reading the contact tables when `method = "table"`),
 //! speed and start.
 
+use crate::config::scene::ContactMethodKind;
 use crate::session::contact::{contact_tables, imported_table};
 use std::sync::Arc;
 
@@ -32,9 +33,11 @@ pub fn system_settings(
         poisson: scene.contact.poisson,
     };
     let creep_law = scene.creep_law()?;
-    let method = match scene.contact.method.as_str() {
-        "table" => ContactMethod::Table(contact_tables(vfile, track, &rail_path, material)?),
-        "imported" => {
+    let method = match scene.contact.method {
+        ContactMethodKind::Table => {
+            ContactMethod::Table(contact_tables(vfile, track, &rail_path, material)?)
+        }
+        ContactMethodKind::Imported => {
             let path = ls.path(
                 scene
                     .contact
@@ -48,9 +51,9 @@ pub fn system_settings(
                 shear_modulus_override_pa: scene.contact.shear_modulus_pa,
             })
         }
-        _ => ContactMethod::Online,
+        ContactMethodKind::Online => ContactMethod::Online,
     };
-    let flange: FlangeSearch = scene.contact.flange.parse().map_err(anyhow::Error::msg)?;
+    let flange: FlangeSearch = scene.contact.flange.into();
     let settings = SystemSettings {
         forces: ContactForceSettings {
             material,
@@ -63,12 +66,7 @@ pub fn system_settings(
             creepage: CreepageOptions {
                 min_rolling_speed_m_s: scene.contact.min_rolling_speed_m_s,
             },
-            non_hertzian: scene
-                .contact
-                .non_hertzian
-                .parse()
-                .map_err(anyhow::Error::msg)
-                .context("[contact] non_hertzian")?,
+            non_hertzian: scene.contact.non_hertzian.into(),
         },
         contact: ContactOptions {
             flange,

@@ -23,8 +23,9 @@ use anyhow::{Context, Result, bail};
 use rayon::prelude::*;
 use serde::Serialize;
 
+use crate::config::Variation;
 use crate::config::scene::LoadedScene;
-use crate::run::{RunRequest, run_scene};
+use crate::run::run_scene;
 
 /// Settings of a diagram.
 #[derive(Debug, Clone, PartialEq)]
@@ -88,15 +89,6 @@ pub struct Bifurcation {
     pub files: Vec<String>,
 }
 
-fn overrides(scene: &LoadedScene, extra: &[String]) -> Result<LoadedScene> {
-    LoadedScene::from_text(
-        &scene.text,
-        scene.dir.clone(),
-        extra,
-        format!("{} ({})", scene.origin, extra.join(" ")),
-    )
-}
-
 /// Computes the diagram (module docs) and writes `bifurcation.csv` and
 /// `bifurcation.png`.
 pub fn bifurcation(
@@ -119,16 +111,14 @@ pub fn bifurcation(
         speeds
             .par_iter()
             .map(|&v| {
-                let s = overrides(scene, &[format!("initial.speed_m_s={v}")])?;
+                let s = scene.varied(&[Variation::Speed(v)])?;
                 let output = runs.join(format!("up_{v:.3}.h5"));
-                let req = RunRequest {
-                    scene: s,
-                    output: output.clone(),
-                    plots: None,
-                };
-                let _ = run_scene(&req, &mut |_| {}, Some(stop.clone()));
-                let r = runtime::schema::results::read_results(&output)
-                    .with_context(|| format!("the run at {v} m/s"))?;
+                // A run that fails (a derailment) still gives its samples so far.
+                let r = run_scene(&s, &mut |_| {}, Some(stop.clone()))
+                    .with_context(|| format!("the run at {v} m/s"))?
+                    .results;
+                runtime::schema::results::write_results(&output, &r)
+                    .with_context(|| format!("writing the run at {v} m/s"))?;
                 let w = &r.wheelsets[0];
                 let t_end = r.time_s.last().copied().unwrap_or(0.0);
                 let amp = r
@@ -154,57 +144,39 @@ pub fn bifurcation(
         settings.deceleration_m_s2,
     );
     let distance = (v0 * v0 - v1 * v1) / (2.0 * a);
-    let mut extra = vec![
-        format!("initial.speed_m_s={v0}"),
-        format!("initial.deceleration_m_s2={a}"),
-        format!("run.distance_m={distance}"),
-        format!(
-            "track.straight_m={}",
-            distance + scene.scene.initial.s_m + 100.0
-        ),
-    ];
-    // The ramp's length is a distance: a scene's duration gives way to it.
-    if scene.scene.run.duration_s.is_some() {
-        extra.push("run.duration_s=".into());
-    }
-    let t = &scene.scene.track;
-    for (key, set) in [
-        ("centerline", t.centerline.is_some()),
-        ("tables", t.tables.is_some()),
-        ("cant", t.cant.is_some()),
-        ("irregularities", t.irregularities.is_some()),
-    ] {
-        if set {
-            extra.push(format!("track.{key}="));
-        }
-    }
-    let s = overrides(scene, &extra)?;
+    let mut extra = vec![Variation::Speed(v0)];
+    extra.extend(Variation::ramp_on_straight(
+        &scene.scene,
+        a,
+        distance,
+        distance + scene.scene.initial.s_m + 100.0,
+    ));
+    let s = scene.varied(&extra)?;
     let output = runs.join("ramp_down.h5");
     let start = Instant::now();
-    let ramp_result = run_scene(
-        &RunRequest {
-            scene: s,
-            output: output.clone(),
-            plots: None,
-        },
-        &mut |_| {},
-        Some(stop),
-    );
+    let ramp_result = run_scene(&s, &mut |_| {}, Some(stop)).and_then(|outcome| {
+        runtime::schema::results::write_results(&output, &outcome.results)
+            .with_context(|| format!("writing the ramp-down run {}", output.display()))?;
+        Ok(outcome.into_parts(&output.display().to_string()))
+    });
     let ramp_wall_s = start.elapsed().as_secs_f64();
     let mut ramp_down = Vec::new();
-    if output.exists() {
-        let r = runtime::schema::results::read_results(&output)?;
-        let y = &r.wheelsets[0].lateral_m;
-        for i in 1..y.len().saturating_sub(1) {
-            let (p, c, q) = (y[i - 1].abs(), y[i].abs(), y[i + 1].abs());
-            if c > p && c >= q && c > 1e-7 {
-                ramp_down.push(BranchPoint {
-                    speed_m_s: (v0 - a * r.time_s[i]).max(0.0),
-                    amplitude_mm: c * 1e3,
-                });
+    let ramp_result = match ramp_result {
+        Ok((r, summary)) => {
+            let y = &r.wheelsets[0].lateral_m;
+            for i in 1..y.len().saturating_sub(1) {
+                let (p, c, q) = (y[i - 1].abs(), y[i].abs(), y[i + 1].abs());
+                if c > p && c >= q && c > 1e-7 {
+                    ramp_down.push(BranchPoint {
+                        speed_m_s: (v0 - a * r.time_s[i]).max(0.0),
+                        amplitude_mm: c * 1e3,
+                    });
+                }
             }
+            summary.map(|_| ())
         }
-    }
+        Err(e) => Err(e),
+    };
     if let Err(e) = &ramp_result
         && ramp_down.is_empty()
     {

@@ -29,8 +29,10 @@ use runtime::dynamics::{InitialConditions, SystemSettings, VehicleSystem};
 use runtime::schema::results::RunResults;
 use serde::Serialize;
 
+use crate::config::Variation;
+use crate::config::scene::CreepLawName;
 use crate::config::scene::LoadedScene;
-use crate::run::{RunRequest, run_scene};
+use crate::run::run_scene;
 
 /// A growth-rate fit of the lateral motion of one wheelset.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -176,7 +178,7 @@ pub fn damping_ratio(rate_1_s: f64, frequency_hz: f64) -> f64 {
 /// The critical speed of one law by one method.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CriticalSpeed {
-    pub creep_law: String,
+    pub creep_law: CreepLawName,
     pub method: String,
     /// `None` when the rate does not cross zero in the range.
     pub speed_m_s: Option<f64>,
@@ -195,7 +197,7 @@ pub struct CriticalSpeed {
 /// Search settings (checked by [`CriticalSpeedSettings::validate`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct CriticalSpeedSettings {
-    pub laws: Vec<String>,
+    pub laws: Vec<CreepLawName>,
     pub min_m_s: f64,
     pub max_m_s: f64,
     pub tol_m_s: f64,
@@ -342,46 +344,25 @@ fn interpolate(samples: &[SpeedSample], br: (f64, f64)) -> (f64, f64) {
     }
 }
 
-fn with_overrides(scene: &LoadedScene, extra: &[String]) -> Result<LoadedScene> {
-    LoadedScene::from_text(
-        &scene.text,
-        scene.dir.clone(),
-        extra,
-        format!("{} ({})", scene.origin, extra.join(" ")),
-    )
-}
-
 /// Time-domain critical speed of one law (module docs).
 pub fn time_domain(
     scene: &LoadedScene,
-    law: &str,
+    law: CreepLawName,
     settings: &CriticalSpeedSettings,
     stop: Arc<AtomicBool>,
 ) -> Result<CriticalSpeed> {
     let dir = settings.out_dir.join("runs");
     std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
     let rate = |v: f64| -> Result<SpeedSample> {
-        let s = with_overrides(
-            scene,
-            &[
-                format!("initial.speed_m_s={v}"),
-                format!("contact.creep_law=\"{law}\""),
-            ],
-        )?;
+        let s = scene.varied(&[Variation::Speed(v), Variation::CreepLaw(law)])?;
         let output = dir.join(format!("{law}_{v:.4}.h5"));
-        let req = RunRequest {
-            scene: s,
-            output: output.clone(),
-            plots: None,
-        };
         // A failed run (e.g. derailment of a violently unstable run) counts
-        // as growing.
-        let r = match run_scene(&req, &mut |_| {}, Some(stop.clone())) {
-            Ok(_) => runtime::schema::results::read_results(&output)?,
-            Err(_) if output.exists() => runtime::schema::results::read_results(&output)?,
-            Err(e) => return Err(e.context(format!("run at {v} m/s"))),
-        };
-        let fit = growth_rate(&r, 0, settings.skip_s);
+        // as growing: its results so far are used (and written, for the user).
+        let outcome = run_scene(&s, &mut |_| {}, Some(stop.clone()))
+            .with_context(|| format!("run at {v} m/s"))?;
+        runtime::schema::results::write_results(&output, &outcome.results)
+            .with_context(|| format!("writing the run at {v} m/s to {}", output.display()))?;
+        let fit = growth_rate(&outcome.results, 0, settings.skip_s);
         Ok(SpeedSample::new(
             v,
             fit.map_or(f64::NAN, |f| f.rate_1_s),
@@ -398,7 +379,7 @@ pub fn time_domain(
         None => (None, None),
     };
     Ok(CriticalSpeed {
-        creep_law: law.into(),
+        creep_law: law,
         method: "time".into(),
         speed_m_s: speed,
         speed_km_h: speed.map(|v| v * 3.6),
@@ -410,14 +391,8 @@ pub fn time_domain(
 }
 
 /// The hunting mode of the scene's vehicle at speed `v` with `law`.
-pub fn hunting_mode(scene: &LoadedScene, law: &str, v: f64) -> Result<Option<Mode>> {
-    let s = with_overrides(
-        scene,
-        &[
-            format!("initial.speed_m_s={v}"),
-            format!("contact.creep_law=\"{law}\""),
-        ],
-    )?;
+pub fn hunting_mode(scene: &LoadedScene, law: CreepLawName, v: f64) -> Result<Option<Mode>> {
+    let s = scene.varied(&[Variation::Speed(v), Variation::CreepLaw(law)])?;
     let (track, _) = crate::session::track::load_track(&s)?;
     let vfile = crate::config::vehicle::VehicleFile::load(&s.path(&s.scene.vehicle.file))?;
     let vehicle = crate::session::vehicle::vehicle_model(
@@ -444,7 +419,7 @@ pub fn hunting_mode(scene: &LoadedScene, law: &str, v: f64) -> Result<Option<Mod
 /// Linear (eigenvalue) critical speed of one law.
 pub fn linear_domain(
     scene: &LoadedScene,
-    law: &str,
+    law: CreepLawName,
     settings: &CriticalSpeedSettings,
     stop: Arc<AtomicBool>,
 ) -> Result<CriticalSpeed> {
@@ -466,7 +441,7 @@ pub fn linear_domain(
         None => (None, None),
     };
     Ok(CriticalSpeed {
-        creep_law: law.into(),
+        creep_law: law,
         method: "linear".into(),
         speed_m_s: speed,
         speed_km_h: speed.map(|v| v * 3.6),
@@ -480,7 +455,7 @@ pub fn linear_domain(
 /// Nonlinear critical speed by a speed ramp (module docs).
 pub fn ramp(
     scene: &LoadedScene,
-    law: &str,
+    law: CreepLawName,
     settings: &CriticalSpeedSettings,
     stop: Arc<AtomicBool>,
 ) -> Result<CriticalSpeed> {
@@ -492,54 +467,43 @@ pub fn ramp(
     // Distance covered from v0 down to v1, plus the run-up at v0.
     let distance = (v0 * v0 - v1 * v1) / (2.0 * a);
     let length = distance + 50.0 + scene.scene.initial.s_m + 20.0;
-    let mut extra = vec![
-        format!("initial.speed_m_s={v0}"),
-        format!("initial.deceleration_m_s2={a}"),
-        format!("contact.creep_law=\"{law}\""),
-        format!("run.distance_m={distance}"),
-        format!("track.straight_m={length}"),
-    ];
-    // The ramp's length is a distance: a scene's duration gives way to it.
-    if scene.scene.run.duration_s.is_some() {
-        extra.push("run.duration_s=".into());
-    }
-    for key in ["centerline", "tables", "cant", "irregularities"] {
-        if toml::Table::try_from(&scene.scene)?
-            .get("track")
-            .and_then(|t| t.get(key))
-            .is_some()
-        {
-            extra.push(format!("track.{key}="));
-        }
-    }
-    let s = with_overrides(scene, &extra)?;
+    let mut extra = vec![Variation::Speed(v0), Variation::CreepLaw(law)];
+    extra.extend(Variation::ramp_on_straight(
+        &scene.scene,
+        a,
+        distance,
+        length,
+    ));
+    let s = scene.varied(&extra)?;
     let dir = settings.out_dir.join("runs");
     std::fs::create_dir_all(&dir)?;
     let output = dir.join(format!("{law}_ramp.h5"));
-    let req = RunRequest {
-        scene: s,
-        output: output.clone(),
-        plots: None,
+    let ran = run_scene(&s, &mut |_| {}, Some(stop)).and_then(|outcome| {
+        runtime::schema::results::write_results(&output, &outcome.results)
+            .with_context(|| format!("writing the ramp run {}", output.display()))?;
+        let (results, summary) = outcome.into_parts(&output.display().to_string());
+        summary.map(|_| results)
+    });
+    let r = match ran {
+        Ok(r) => r,
+        Err(e) => {
+            // A derailed ramp (e.g. Kalker's unsaturated forces climbing the
+            // flange) has no limit cycle to follow down.
+            return Ok(CriticalSpeed {
+                creep_law: law,
+                method: "ramp".into(),
+                speed_m_s: None,
+                speed_km_h: None,
+                bracket_m_s: None,
+                frequency_hz: None,
+                samples: vec![],
+                note: Some(format!(
+                    "the ramp run failed: {}",
+                    crate::error_text::chain_text(&e)
+                )),
+            });
+        }
     };
-    if let Err(e) = run_scene(&req, &mut |_| {}, Some(stop)) {
-        // A derailed ramp (e.g. Kalker's unsaturated forces climbing the
-        // flange) has no limit cycle to follow down.
-        return Ok(CriticalSpeed {
-            creep_law: law.into(),
-            method: "ramp".into(),
-            speed_m_s: None,
-            speed_km_h: None,
-            bracket_m_s: None,
-            frequency_hz: None,
-            samples: vec![],
-            note: Some(format!(
-                "the ramp run failed: {}",
-                crate::error_text::chain_text(&e)
-            )),
-        });
-    }
-    let r = runtime::schema::results::read_results(&output)
-        .with_context(|| format!("the ramp run {}", output.display()))?;
     let w = &r.wheelsets[0];
     let peaks = extrema(&r.time_s, &w.lateral_m);
     // The cycle's saturated amplitude: the 90th percentile of the peaks
@@ -578,7 +542,7 @@ pub fn ramp(
             .then(|| 0.5 * (near.len() - 1) as f64 / (near[near.len() - 1].0 - near[0].0))
     });
     Ok(CriticalSpeed {
-        creep_law: law.into(),
+        creep_law: law,
         method: "ramp".into(),
         speed_m_s: speed,
         speed_km_h: speed.map(|v| v * 3.6),
@@ -786,7 +750,7 @@ mod tests {
     #[test]
     fn settings_name_the_violated_rule() {
         let good = CriticalSpeedSettings {
-            laws: vec!["kalker".into(), "polach".into()],
+            laws: vec![CreepLawName::Kalker, CreepLawName::Polach],
             min_m_s: 10.0,
             max_m_s: 100.0,
             tol_m_s: 0.1,
@@ -804,7 +768,8 @@ mod tests {
         };
         assert!(err(|s| s.methods.push("ramp".into())).contains("method 'ramp' is given twice"));
         assert!(
-            err(|s| s.laws.push("kalker".into())).contains("creep law 'kalker' is given twice")
+            err(|s| s.laws.push(CreepLawName::Kalker))
+                .contains("creep law 'kalker' is given twice")
         );
         assert!(err(|s| s.methods.push("eigen".into())).contains("'eigen' is not"));
         assert!(err(|s| s.max_m_s = 5.0).contains("need 0 < min < max"));

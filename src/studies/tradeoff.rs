@@ -45,11 +45,13 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use anyhow::{Context, Result, bail, ensure};
-use runtime::schema::results::{RunResults, read_results};
+use runtime::schema::results::RunResults;
 use serde::Serialize;
 
+use crate::config::Variation;
+use crate::config::scene::IntegratorKind;
 use crate::config::scene::{LoadedScene, Scene};
-use crate::run::{RunRequest, run_scene};
+use crate::run::run_scene;
 use crate::studies::critical_speed::{CriticalSpeedSettings, growth_rate, time_domain};
 
 /// The reference run: finest table step, online contact with the flange
@@ -165,7 +167,7 @@ fn scene_settings(scene: &Scene) -> Vec<String> {
         format!("run.integrator=\"{}\"", scene.run.integrator),
         format!("run.step_s={}", scene.run.step_s),
     ];
-    if scene.run.integrator == "dopri5" {
+    if scene.run.integrator == IntegratorKind::Dopri5 {
         v.push(format!("run.rtol={}", scene.run.rtol));
         v.push(format!("run.atol={}", scene.run.atol));
         v.push(format!("run.max_step_s={}", scene.run.max_step_s));
@@ -274,7 +276,7 @@ pub fn variants(scene: &Scene, quick: bool) -> (Vec<Variant>, Vec<String>) {
         v.push(var);
     }
     for law in ["kalker", "heuristic", "polach", "fastsim"] {
-        if law != scene.contact.creep_law {
+        if law != scene.contact.creep_law.as_str() {
             v.push(Variant::new(
                 &format!("creep {law}"),
                 "model",
@@ -340,27 +342,29 @@ pub fn quick_scene(scene: &LoadedScene, keep: bool) -> Result<LoadedScene> {
     if keep {
         return Ok(scene.clone());
     }
-    let mut o = vec![format!("run.distance_m={QUICK_DISTANCE_M}")];
+    let mut o = vec![Variation::Distance(QUICK_DISTANCE_M)];
     if scene.scene.run.duration_s.is_some() {
-        o.push("run.duration_s=".into());
+        o.push(Variation::Remove("run.duration_s".into()));
     }
-    LoadedScene::from_text(&scene.text, scene.dir.clone(), &o, scene.origin.clone())
+    let mut quick = scene.varied(&o)?;
+    quick.origin = scene.origin.clone();
+    Ok(quick)
 }
 
 /// The scene of a variant: the reference's overrides, then its own.
 pub fn variant_scene(scene: &LoadedScene, v: &Variant) -> Result<LoadedScene> {
-    let overrides: Vec<String> = REFERENCE_OVERRIDES
+    let variations = REFERENCE_OVERRIDES
         .iter()
-        .map(|s| s.to_string())
-        .chain(v.overrides.iter().cloned())
-        .collect();
-    LoadedScene::from_text(
-        &scene.text,
-        scene.dir.clone(),
-        &overrides,
-        format!("{} [{}]", scene.origin, v.name),
-    )
-    .with_context(|| format!("variant '{}'", v.name))
+        .copied()
+        .chain(v.overrides.iter().map(String::as_str))
+        .map(Variation::parse)
+        .collect::<Result<Vec<_>>>()
+        .with_context(|| format!("variant '{}'", v.name))?;
+    let mut vs = scene
+        .varied(&variations)
+        .with_context(|| format!("variant '{}'", v.name))?;
+    vs.origin = format!("{} [{}]", scene.origin, v.name);
+    Ok(vs)
 }
 
 /// Optional time-domain critical speed of every variant.
@@ -858,16 +862,17 @@ fn run_variant(
     };
     row.table_step_m = vs.scene.track.step_m;
     let output = runs_dir.join(format!("{}.h5", v.slug()));
-    let req = RunRequest {
-        scene: vs.clone(),
-        output: output.clone(),
-        plots: None,
-    };
     let (mut walls, mut setups) = (Vec::new(), Vec::new());
     let mut last = None;
     for k in 0..settings.repeats {
-        match run_scene(&req, &mut |_| {}, Some(stop.clone())) {
-            Ok(s) => {
+        let ran = run_scene(&vs, &mut |_| {}, Some(stop.clone())).and_then(|outcome| {
+            runtime::schema::results::write_results(&output, &outcome.results)
+                .with_context(|| format!("writing {}", output.display()))?;
+            let (results, summary) = outcome.into_parts(&output.display().to_string());
+            summary.map(|s| (s, results))
+        });
+        match ran {
+            Ok((s, results)) => {
                 progress(&format!(
                     "{} ({}/{}): {:.3} s wall",
                     v.name,
@@ -877,7 +882,7 @@ fn run_variant(
                 ));
                 walls.push(s.wall_time_s);
                 setups.push(s.setup_time_s);
-                last = Some(s);
+                last = Some((s, results));
             }
             Err(e) => {
                 if stop.load(Ordering::Relaxed) {
@@ -894,7 +899,7 @@ fn run_variant(
             }
         }
     }
-    let s = last.context("no run")?;
+    let (s, results) = last.context("no run")?;
     if let Some(st) = &s.stopped {
         if st == "interrupted" {
             bail!("interrupted");
@@ -911,8 +916,8 @@ fn run_variant(
     row.steps = Some(s.steps);
     row.rejected_steps = Some(s.rejected_steps);
     row.rhs_evaluations = Some(s.rhs_evaluations);
-    let dt = match vs.scene.run.integrator.as_str() {
-        "rk4" => Some(vs.scene.run.step_s),
+    let dt = match vs.scene.run.integrator {
+        IntegratorKind::Rk4 => Some(vs.scene.run.step_s),
         _ => (s.steps > 0).then(|| s.simulated_time_s / s.steps as f64),
     };
     row.distance_per_step_m = dt.map(|dt| vs.scene.initial.speed_m_s * dt);
@@ -920,7 +925,6 @@ fn run_variant(
         .distance_per_step_m
         .filter(|d| *d > 0.0)
         .map(|d| row.table_step_m / d);
-    let results = read_results(&output).with_context(|| format!("reading {}", output.display()))?;
     row.results = Some(output.display().to_string());
     Ok((row, Some(results)))
 }
@@ -944,14 +948,16 @@ fn critical_speeds(
             bail!("interrupted");
         }
         let mut vs = variant_scene(scene, v)?;
-        let mut o = vec![format!("run.distance_m={}", cs.distance_m)];
+        let mut o = vec![Variation::Distance(cs.distance_m)];
         if vs.scene.run.duration_s.is_some() {
-            o.push("run.duration_s=".into());
+            o.push(Variation::Remove("run.duration_s".into()));
         }
-        vs = LoadedScene::from_text(&vs.text, vs.dir.clone(), &o, vs.origin.clone())?;
-        let law = vs.scene.contact.creep_law.clone();
+        let origin = vs.origin.clone();
+        vs = vs.varied(&o)?;
+        vs.origin = origin;
+        let law = vs.scene.contact.creep_law;
         let cs_settings = CriticalSpeedSettings {
-            laws: vec![law.clone()],
+            laws: vec![law],
             min_m_s: cs.min_m_s,
             max_m_s: cs.max_m_s,
             tol_m_s: cs.tol_m_s,
@@ -963,7 +969,7 @@ fn critical_speeds(
         };
         cs_settings.validate()?;
         let t0 = std::time::Instant::now();
-        let r = time_domain(&vs, &law, &cs_settings, stop.clone())
+        let r = time_domain(&vs, law, &cs_settings, stop.clone())
             .with_context(|| format!("critical speed of '{}'", v.name))?;
         progress(&format!(
             "{}: critical speed {} ({:.1} s)",
