@@ -63,7 +63,7 @@
 //! ```
 //!
 //! The `[plan]` section and `track.range_m` are described in
-//! [`crate::session::plan`]: with `mode = "required"` the planner chooses the
+//! the planner (`docs/guide/speed-accuracy-tradeoff.md`): with `mode = "required"` the planner chooses the
 //! flange search, the contact method, the table step and the track range
 //! wherever the scene leaves them out (or lists them in `choose`).
 
@@ -112,7 +112,7 @@ pub struct TrackSection {
     pub rail_profile: PathBuf,
     /// Tabulate only this stretch `[from, to]` of the centreline (track
     /// distance, m), built in memory; CSV inputs only. Set by the planner
-    /// ([`crate::session::plan`]) or by hand; absent: the whole track.
+    /// (the planner) or by hand; absent: the whole track.
     #[serde(default)]
     pub range_m: Option<[f64; 2]>,
 }
@@ -346,7 +346,7 @@ pub struct Scene {
     pub perturbation: crate::config::load::PerturbationSection,
 }
 
-/// What the planner may choose ([`crate::session::plan`]).
+/// What the planner may choose (the planner, `docs/guide/speed-accuracy-tradeoff.md`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PlanSection {

@@ -1,6 +1,6 @@
 //! A run: a scene (with its plan) integrated in time to results in memory
 //! and a summary (SPEC §8); the caller writes them
-//! (`crate::report::run_files`). The track tables (and, with
+//! (the report layer). The track tables (and, with
 //! `method = "table"`, the contact lookup tables) are built on demand and
 //! cached ([`crate::session::cache`]); the vehicle file becomes a
 //! [`VehicleModel`]; the system is integrated with the scene's method while

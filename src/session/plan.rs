@@ -54,7 +54,7 @@ pub const ITEMS: [&str; 4] = ["flange", "method", "step", "range"];
 pub const MAX_STEP_M: f64 = 1.0;
 
 /// The finest table step (m): the `sim tradeoff` reference's
-/// ([`crate::studies::tradeoff::REFERENCE_OVERRIDES`]).
+/// (the reference run of `sim tradeoff`).
 pub const FINEST_STEP_M: f64 = 0.01;
 
 /// The steps the planner picks from (m), coarsest first (each divides 1 m).
