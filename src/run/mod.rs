@@ -14,19 +14,18 @@ pub mod summary;
 
 pub use summary::{EnergySummary, RunSummary, WheelsetSummary};
 
-use crate::session::{settings::system_settings, track::load_track, vehicle::vehicle_model};
+use crate::session::Session;
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 use summary::wheelset_summaries;
 
 use anyhow::{Context, Result, anyhow};
-use runtime::dynamics::{InitialConditions, Recorder, VehicleSystem};
+use runtime::dynamics::Recorder;
 use runtime::integrator::{IntegrationStats, OutputGrid, integrate};
 use runtime::schema::results::RunResults;
 
 use crate::config::scene::LoadedScene;
-use crate::config::vehicle::VehicleFile;
 
 /// Progress of a run, for the CLI's bar.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -103,7 +102,8 @@ pub fn run_scene_with_plan(
     stop: Option<Arc<AtomicBool>>,
 ) -> Result<RunOutcome> {
     loop {
-        match run_planned(scene, &plan, progress, stop.clone())? {
+        let session = Session::assemble(scene, plan.clone())?;
+        match run_session(&session, progress, stop.clone())? {
             Attempt::Done(outcome) => return Ok(*outcome),
             Attempt::Revise(why) => plan.revise_flange(&why),
         }
@@ -117,41 +117,18 @@ enum Attempt {
     Revise(String),
 }
 
-fn run_planned(
-    scene_in: &LoadedScene,
-    plan: &crate::session::plan::Plan,
+/// One run of an assembled session; `Revise` when its flange guard trips.
+fn run_session(
+    session: &Session,
     progress: &mut dyn FnMut(RunProgress),
     stop: Option<Arc<AtomicBool>>,
 ) -> Result<Attempt> {
     let setup_start = Instant::now();
-    let planned = plan.apply(scene_in);
-    let ls = &planned;
+    let ls = &session.scene;
     let scene = &ls.scene;
-    let (track, source) = load_track(ls).context("track tables")?;
-    let vehicle_path = ls.path(&scene.vehicle.file);
-    let vfile = VehicleFile::load(&vehicle_path)?;
-    let rail_path = ls.path(&scene.track.rail_profile);
-    let mut vehicle = vehicle_model(&vfile, &track, &rail_path)?;
-    crate::session::load::add_loads(&mut vehicle, &scene.load)?;
-    let settings = system_settings(ls, &vfile, &track)?;
-    let integrator = scene.method()?;
-    let (mut system, mut y0) = VehicleSystem::assemble(
-        &track,
-        &vehicle,
-        settings,
-        InitialConditions {
-            lateral_m: scene.initial.lateral_m,
-            yaw_rad: scene.initial.yaw_rad,
-        },
-    )
-    .context("assembling the vehicle on the track")?;
-    crate::session::load::perturb(
-        &mut y0,
-        &vehicle,
-        &track,
-        scene.initial.s_m,
-        &scene.perturbation,
-    )?;
+    let plan = &session.plan;
+    let integrator = session.method.clone();
+    let (mut system, y0) = session.system()?;
     // With a flange guard the system stops on its own flag, set by the
     // guard or by the caller's (checked at every accepted step).
     let guard = plan.flange_guard;
@@ -163,7 +140,7 @@ fn run_planned(
     }
     system.enable_energy_ledger();
     let total_s = scene.duration_s();
-    let setup_time_s = setup_start.elapsed().as_secs_f64();
+    let setup_time_s = session.setup_time_s + setup_start.elapsed().as_secs_f64();
     let start = Instant::now();
     let mut accepted = 0u64;
     {
@@ -263,13 +240,13 @@ fn run_planned(
     results.attributes = vec![
         ("title".into(), scene.title.clone()),
         ("scene".into(), ls.origin.clone()),
-        ("vehicle".into(), vfile.name.clone()),
+        ("vehicle".into(), session.vehicle_file.name.clone()),
         ("creep_law".into(), scene.contact.creep_law.to_string()),
         ("contact_method".into(), scene.contact.method.to_string()),
         ("flange_search".into(), scene.contact.flange.to_string()),
         ("integrator".into(), scene.run.integrator.to_string()),
         ("speed_m_s".into(), format!("{}", scene.initial.speed_m_s)),
-        ("track".into(), source.path.clone()),
+        ("track".into(), session.track_source.path.clone()),
         ("plan".into(), plan.to_text()),
         (
             "plan_json".into(),
@@ -334,7 +311,7 @@ fn run_planned(
         energy,
         stopped,
         error: error.as_ref().map(crate::error_text::chain_text),
-        track: source,
+        track: session.track_source.clone(),
         plan: plan.clone(),
     };
     let failure = error.map(|e| RunFailure {
