@@ -190,8 +190,8 @@ pub struct CriticalSpeedArgs {
     #[arg(long, value_name = "N")]
     pub jobs: Option<usize>,
     /// time (growth rates of runs), ramp (nonlinear, speed ramped down), linear (eigenvalues); repeatable.
-    #[arg(long = "method", value_name = "M", default_value = "time", value_parser = ["time", "ramp", "linear"])]
-    pub method: Vec<String>,
+    #[arg(long = "method", value_name = "M", default_value = "time")]
+    pub method: Vec<crate::studies::critical_speed::CriticalSpeedMethod>,
     /// Start transient skipped by the growth-rate fit [s].
     #[arg(long, default_value_t = 1.0, value_name = "S")]
     pub skip_s: f64,
@@ -634,9 +634,7 @@ fn run_command(args: &RunArgs) -> Result<()> {
 }
 
 fn critical_speed_command(args: &CriticalSpeedArgs) -> Result<()> {
-    use crate::studies::critical_speed::{
-        CriticalSpeedReport, CriticalSpeedSettings, linear_domain, ramp, time_domain,
-    };
+    use crate::studies::critical_speed::{CriticalSpeedSettings, study};
     use std::sync::Arc;
     use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -647,7 +645,7 @@ fn critical_speed_command(args: &CriticalSpeedArgs) -> Result<()> {
         args.creep.clone()
     };
     let settings = CriticalSpeedSettings {
-        laws: laws.clone(),
+        laws,
         min_m_s: args.min,
         max_m_s: args.max,
         tol_m_s: args.tol,
@@ -659,59 +657,17 @@ fn critical_speed_command(args: &CriticalSpeedArgs) -> Result<()> {
         skip_s: args.skip_s,
         ramp_deceleration_m_s2: args.ramp_deceleration,
     };
-    settings.validate()?;
     let stop = Arc::new(AtomicBool::new(false));
     {
         let stop = stop.clone();
         let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
     }
-    let mut report = CriticalSpeedReport {
-        scene: scene.origin.clone(),
-        results: Vec::new(),
-        files: Vec::new(),
-    };
-    // The ramps (one long run per law) run side by side, `jobs` at a time;
-    // the time and linear methods spread their speeds over the threads
-    // themselves.
-    let ramps: Vec<Result<_>> = if settings.methods.iter().any(|m| m == "ramp") {
-        if !args.json {
-            eprintln!(
-                "{}: ramp …",
-                laws.iter()
-                    .map(|l| l.as_str())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            );
+    let quiet = args.json;
+    let mut report = study(&scene, &settings, stop, &mut |m| {
+        if !quiet {
+            eprintln!("{m}");
         }
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(settings.jobs.max(1))
-            .build()
-            .context("starting the worker threads")?;
-        pool.install(|| {
-            use rayon::prelude::*;
-            laws.par_iter()
-                .map(|law| ramp(&scene, *law, &settings, stop.clone()))
-                .collect()
-        })
-    } else {
-        Vec::new()
-    };
-    // In law order, one per law (validate() refuses a law given twice).
-    let mut ramps = ramps.into_iter();
-    for law in &laws {
-        for method in &settings.methods {
-            if !args.json && method != "ramp" {
-                eprintln!("{law}, {method} …");
-            }
-            let r = match method.as_str() {
-                "time" => time_domain(&scene, *law, &settings, stop.clone()),
-                "ramp" => ramps.next().context("one ramp per law")?,
-                _ => linear_domain(&scene, *law, &settings, stop.clone()),
-            }
-            .with_context(|| format!("{law}, {method}"))?;
-            report.results.push(r);
-        }
-    }
+    })?;
     report.write(&args.out)?;
     if args.json {
         println!("{}", serde_json::to_string_pretty(&report)?);

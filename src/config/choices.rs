@@ -6,14 +6,13 @@
 
 use runtime::contact::FlangeSearch;
 use runtime::contact_force::NonHertzianPolicy;
-use serde::{Deserialize, Serialize};
 
 /// Defines a choice enum with its scene-file words: serde, `Display`,
 /// `FromStr` (for the command line) and the list of words.
 macro_rules! choice {
     ($(#[$meta:meta])* $name:ident { $($(#[$vmeta:meta])* $variant:ident = $word:literal),+ $(,)? }) => {
         $(#[$meta])*
-        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
         pub enum $name {
             $($(#[$vmeta])* #[serde(rename = $word)] $variant),+
         }
@@ -49,6 +48,8 @@ macro_rules! choice {
         }
     };
 }
+
+pub(crate) use choice;
 
 choice! {
     /// How the contact is evaluated (`[contact] method`).
@@ -186,7 +187,7 @@ mod tests {
         }
         let e = "tabel".parse::<ContactMethodKind>().unwrap_err();
         assert!(e.contains("online, table, imported"), "{e}");
-        #[derive(Deserialize)]
+        #[derive(serde::Deserialize)]
         struct T {
             law: CreepLawName,
         }

@@ -175,11 +175,23 @@ pub fn damping_ratio(rate_1_s: f64, frequency_hz: f64) -> f64 {
     -rate_1_s / rate_1_s.hypot(omega)
 }
 
+crate::config::choices::choice! {
+    /// How a critical speed is found (`--method`; module docs).
+    CriticalSpeedMethod {
+        /// Growth rates of runs at many speeds, bracketed to zero.
+        Time = "time",
+        /// The speed ramped down from a hunting cycle until it dies out.
+        Ramp = "ramp",
+        /// Eigenvalues of the linearised centred run.
+        Linear = "linear",
+    }
+}
+
 /// The critical speed of one law by one method.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CriticalSpeed {
     pub creep_law: CreepLawName,
-    pub method: String,
+    pub method: CriticalSpeedMethod,
     /// `None` when the rate does not cross zero in the range.
     pub speed_m_s: Option<f64>,
     pub speed_km_h: Option<f64>,
@@ -202,8 +214,7 @@ pub struct CriticalSpeedSettings {
     pub max_m_s: f64,
     pub tol_m_s: f64,
     pub jobs: usize,
-    /// `time`, `ramp`, `linear`.
-    pub methods: Vec<String>,
+    pub methods: Vec<CriticalSpeedMethod>,
     pub out_dir: PathBuf,
     /// Start transient skipped by the rate fit (s).
     pub skip_s: f64,
@@ -227,9 +238,6 @@ impl CriticalSpeedSettings {
             bail!("jobs must be >= 1");
         }
         for (i, m) in self.methods.iter().enumerate() {
-            if !["time", "ramp", "linear"].contains(&m.as_str()) {
-                bail!("method '{m}' is not time, ramp or linear");
-            }
             if self.methods[..i].contains(m) {
                 bail!("method '{m}' is given twice");
             }
@@ -344,6 +352,63 @@ fn interpolate(samples: &[SpeedSample], br: (f64, f64)) -> (f64, f64) {
     }
 }
 
+/// The whole study: every law by every method, in law order (the ramps,
+/// one long run per law, side by side on `settings.jobs` threads; the time
+/// and linear methods spread their speeds over the threads themselves).
+/// `progress` is told what starts.
+pub fn study(
+    scene: &LoadedScene,
+    settings: &CriticalSpeedSettings,
+    stop: Arc<AtomicBool>,
+    progress: &mut dyn FnMut(&str),
+) -> Result<CriticalSpeedReport> {
+    settings.validate()?;
+    let laws = &settings.laws;
+    let mut report = CriticalSpeedReport {
+        scene: scene.origin.clone(),
+        results: Vec::new(),
+        files: Vec::new(),
+    };
+    let ramps: Vec<Result<CriticalSpeed>> = if settings.methods.contains(&CriticalSpeedMethod::Ramp)
+    {
+        progress(&format!(
+            "{}: ramp …",
+            laws.iter()
+                .map(|l| l.as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(settings.jobs.max(1))
+            .build()
+            .context("starting the worker threads")?;
+        pool.install(|| {
+            laws.par_iter()
+                .map(|law| ramp(scene, *law, settings, stop.clone()))
+                .collect()
+        })
+    } else {
+        Vec::new()
+    };
+    // In law order, one per law (validate() refuses a law given twice).
+    let mut ramps = ramps.into_iter();
+    for law in laws {
+        for method in &settings.methods {
+            if *method != CriticalSpeedMethod::Ramp {
+                progress(&format!("{law}, {method} …"));
+            }
+            let r = match method {
+                CriticalSpeedMethod::Time => time_domain(scene, *law, settings, stop.clone()),
+                CriticalSpeedMethod::Ramp => ramps.next().context("one ramp per law")?,
+                CriticalSpeedMethod::Linear => linear_domain(scene, *law, settings, stop.clone()),
+            }
+            .with_context(|| format!("{law}, {method}"))?;
+            report.results.push(r);
+        }
+    }
+    Ok(report)
+}
+
 /// Time-domain critical speed of one law (module docs).
 pub fn time_domain(
     scene: &LoadedScene,
@@ -380,7 +445,7 @@ pub fn time_domain(
     };
     Ok(CriticalSpeed {
         creep_law: law,
-        method: "time".into(),
+        method: CriticalSpeedMethod::Time,
         speed_m_s: speed,
         speed_km_h: speed.map(|v| v * 3.6),
         bracket_m_s: br,
@@ -442,7 +507,7 @@ pub fn linear_domain(
     };
     Ok(CriticalSpeed {
         creep_law: law,
-        method: "linear".into(),
+        method: CriticalSpeedMethod::Linear,
         speed_m_s: speed,
         speed_km_h: speed.map(|v| v * 3.6),
         bracket_m_s: br,
@@ -491,7 +556,7 @@ pub fn ramp(
             // flange) has no limit cycle to follow down.
             return Ok(CriticalSpeed {
                 creep_law: law,
-                method: "ramp".into(),
+                method: CriticalSpeedMethod::Ramp,
                 speed_m_s: None,
                 speed_km_h: None,
                 bracket_m_s: None,
@@ -543,7 +608,7 @@ pub fn ramp(
     });
     Ok(CriticalSpeed {
         creep_law: law,
-        method: "ramp".into(),
+        method: CriticalSpeedMethod::Ramp,
         speed_m_s: speed,
         speed_km_h: speed.map(|v| v * 3.6),
         bracket_m_s: None,
@@ -648,7 +713,7 @@ impl CriticalSpeedReport {
             "growth rate σ [1/s] (> 0: unstable)",
         );
         for (k, r) in self.results.iter().enumerate() {
-            if r.method == "ramp" {
+            if r.method == CriticalSpeedMethod::Ramp {
                 continue;
             }
             let mut pts = Vec::new();
@@ -755,7 +820,7 @@ mod tests {
             max_m_s: 100.0,
             tol_m_s: 0.1,
             jobs: 2,
-            methods: vec!["time".into(), "ramp".into()],
+            methods: vec![CriticalSpeedMethod::Time, CriticalSpeedMethod::Ramp],
             out_dir: PathBuf::new(),
             skip_s: 0.0,
             ramp_deceleration_m_s2: 0.5,
@@ -766,12 +831,19 @@ mod tests {
             edit(&mut s);
             s.validate().unwrap_err().to_string()
         };
-        assert!(err(|s| s.methods.push("ramp".into())).contains("method 'ramp' is given twice"));
+        assert!(
+            err(|s| s.methods.push(CriticalSpeedMethod::Ramp))
+                .contains("method 'ramp' is given twice")
+        );
         assert!(
             err(|s| s.laws.push(CreepLawName::Kalker))
                 .contains("creep law 'kalker' is given twice")
         );
-        assert!(err(|s| s.methods.push("eigen".into())).contains("'eigen' is not"));
+        let e = "eigen".parse::<CriticalSpeedMethod>().unwrap_err();
+        assert!(
+            e.contains("'eigen' is not one of time, ramp, linear"),
+            "{e}"
+        );
         assert!(err(|s| s.max_m_s = 5.0).contains("need 0 < min < max"));
         assert!(err(|s| s.jobs = 0).contains("jobs"));
     }
@@ -784,7 +856,7 @@ mod tests {
             max_m_s: 100.0,
             tol_m_s: 0.05,
             jobs: 2,
-            methods: vec!["time".into()],
+            methods: vec![CriticalSpeedMethod::Time],
             out_dir: PathBuf::new(),
             skip_s: 0.0,
             ramp_deceleration_m_s2: 1.0,

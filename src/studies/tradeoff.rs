@@ -962,7 +962,7 @@ fn critical_speeds(
             max_m_s: cs.max_m_s,
             tol_m_s: cs.tol_m_s,
             jobs: settings.jobs.max(1),
-            methods: vec!["time".into()],
+            methods: vec![crate::studies::critical_speed::CriticalSpeedMethod::Time],
             out_dir: settings.out_dir.join("critical_speed").join(v.slug()),
             skip_s: cs.skip_s,
             ramp_deceleration_m_s2: 0.5,
