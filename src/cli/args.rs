@@ -1,0 +1,442 @@
+//! The command line of `sim`: its subcommands and arguments (clap), each
+//! turned into a checked request by a second stage.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use clap::{Parser, Subcommand};
+use runtime::creep::CreepLaw;
+
+/// Railway vehicle dynamics on pre-processed track tables.
+#[derive(Debug, Parser)]
+#[command(name = "sim", version, about, long_about = None)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Contact of a wheelset at a prescribed pose on a straight track.
+    Contact(ContactArgs),
+    /// Creep curves (force / μN against creepage) of every creep law for one contact ellipse.
+    CreepCurves(CreepCurveArgs),
+    /// Run a scene: a wheelset or bogie on the track; results (HDF5), plots, summary.
+    Run(RunArgs),
+    /// Critical speed per creep law: time-domain growth rates, a speed ramp, eigenvalues.
+    CriticalSpeed(CriticalSpeedArgs),
+    /// Speed against accuracy: the scene over the numerical knobs against a fine reference run.
+    Tradeoff(crate::studies::tradeoff::TradeoffArgs),
+    /// Bifurcation diagram: hunting amplitude against speed (up-scan and ramp-down).
+    Bifurcation {
+        /// Scene file (TOML).
+        #[arg(value_name = "SCENE.toml")]
+        scene: PathBuf,
+        /// Lowest speed [m/s].
+        #[arg(long, value_name = "V")]
+        min: f64,
+        /// Highest speed (start of the ramp-down) [m/s].
+        #[arg(long, value_name = "V")]
+        max: f64,
+        /// Speed step of the up-scan [m/s].
+        #[arg(long, default_value_t = 2.0, value_name = "V")]
+        step: f64,
+        /// Deceleration of the ramp-down [m/s²].
+        #[arg(long, default_value_t = 0.5, value_name = "A")]
+        ramp_deceleration: f64,
+        /// Runs in parallel [default: the number of cores].
+        #[arg(long, value_name = "N")]
+        jobs: Option<usize>,
+        /// Set a scene entry for every run (repeatable).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+        /// Output directory.
+        #[arg(long, value_name = "DIR", default_value = "bifurcation")]
+        out: PathBuf,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Lateral displacement of one wheelset from several results files in one chart; prints each later run's lateral difference from the first, per wheelset.
+    Compare {
+        /// Results files written by `sim run`.
+        #[arg(value_name = "RESULTS.h5", required = true)]
+        runs: Vec<PathBuf>,
+        /// Output PNG.
+        #[arg(long, value_name = "FILE.png")]
+        out: PathBuf,
+        /// Wheelset index (0 = the first in the vehicle file).
+        #[arg(long, default_value_t = 0)]
+        wheelset: usize,
+        /// Chart title.
+        #[arg(long, default_value = "Lateral displacement")]
+        title: String,
+    },
+    /// Our contact table of a wheel/rail pair against an imported one (rolling radius, contact angle, semi-axes, Δr): PNGs, CSV, summary.
+    CompareContactTables {
+        /// Our contact lookup table (from track-preproc contact-table).
+        #[arg(long, value_name = "OURS.h5")]
+        ours: PathBuf,
+        /// The imported table: a .h5 from track-preproc import-contact-table, or an RSGEO .dat.
+        #[arg(long, value_name = "IMPORTED.h5")]
+        imported: PathBuf,
+        /// Output directory (PNGs and comparison.csv).
+        #[arg(long, value_name = "DIR")]
+        out: PathBuf,
+        /// Print the summary as JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Print both rails' interpolated position and frame at a centreline distance.
+    Probe {
+        /// Track table file written by `track-preproc build`.
+        #[arg(value_name = "TABLES.h5")]
+        file: PathBuf,
+        /// Centreline distance s [m].
+        #[arg(long, value_name = "S", allow_negative_numbers = true)]
+        s: f64,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+/// Arguments of `sim contact`.
+#[derive(Debug, clap::Args)]
+pub struct ContactArgs {
+    /// Wheel profile (SIMPACK .prw, two columns y z [mm], or CSV y_mm,z_mm).
+    #[arg(long, value_name = "FILE")]
+    pub wheel: PathBuf,
+    /// Rail profile (SIMPACK .prr, two columns, or CSV).
+    #[arg(long, value_name = "FILE")]
+    pub rail: PathBuf,
+    /// Track gauge [m] (between the gauge points, 14 mm below the top).
+    #[arg(long, default_value_t = 1.435, value_name = "M")]
+    pub gauge: f64,
+    /// Distance between the flange backs [m].
+    #[arg(long, default_value_t = 1.360, value_name = "M")]
+    pub back_to_back: f64,
+    /// Nominal rolling radius at the taping line [m].
+    #[arg(long, default_value_t = 0.46, value_name = "M")]
+    pub wheel_radius: f64,
+    /// Rail inclination towards the track centre: 1:40, 1:20, 0, …
+    #[arg(long, default_value = "0", value_name = "R")]
+    pub rail_inclination: String,
+    /// Lateral shift of the wheelset, positive to the left [mm].
+    #[arg(
+        long,
+        default_value_t = 0.0,
+        value_name = "Y",
+        allow_negative_numbers = true
+    )]
+    pub y_mm: f64,
+    /// Yaw of the wheelset, positive turning its nose left [mrad].
+    #[arg(
+        long,
+        default_value_t = 0.0,
+        value_name = "PSI",
+        allow_negative_numbers = true
+    )]
+    pub yaw_mrad: f64,
+    /// Vertical load per wheel [N] (Hertzian contact).
+    #[arg(long, default_value_t = 10_000.0, value_name = "N")]
+    pub wheel_load_n: f64,
+    /// Rigid contact instead (both wheels just touching).
+    #[arg(long)]
+    pub rigid: bool,
+    /// Young's modulus [Pa].
+    #[arg(long, default_value_t = 210e9, value_name = "E")]
+    pub young_pa: f64,
+    /// Poisson's ratio.
+    #[arg(long, default_value_t = 0.3, value_name = "NU")]
+    pub poisson: f64,
+    /// Spline scheme of the profile functions.
+    #[arg(long, default_value = "cubic", value_parser = ["cubic", "cubic-natural", "akima", "pchip"])]
+    pub profile_scheme: String,
+    /// Forward speed of the wheelset [m/s]; it spins at V/r₀ about its axle.
+    #[arg(long, default_value_t = 30.0, value_name = "V")]
+    pub speed_m_s: f64,
+    /// Creep law.
+    #[arg(long, default_value = "polach", value_parser = CreepLaw::NAMES)]
+    pub creep: String,
+    /// Coefficient of friction.
+    #[arg(long, default_value_t = 0.3, value_name = "MU")]
+    pub mu: f64,
+    /// Print JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Arguments of `sim critical-speed`.
+#[derive(Debug, clap::Args)]
+pub struct CriticalSpeedArgs {
+    /// Scene file (TOML).
+    #[arg(value_name = "SCENE.toml")]
+    pub scene: PathBuf,
+    /// Creep law (repeatable) [default: the scene's].
+    #[arg(long = "creep", value_name = "LAW")]
+    pub creep: Vec<crate::config::scene::CreepLawName>,
+    /// Lowest speed of the search [m/s].
+    #[arg(long, default_value_t = 10.0, value_name = "V")]
+    pub min: f64,
+    /// Highest speed of the search (and start of the ramp) [m/s].
+    #[arg(long, default_value_t = 120.0, value_name = "V")]
+    pub max: f64,
+    /// Width of the final bracket [m/s].
+    #[arg(long, default_value_t = 0.1, value_name = "V")]
+    pub tol: f64,
+    /// Runs in parallel [default: the number of cores].
+    #[arg(long, value_name = "N")]
+    pub jobs: Option<usize>,
+    /// time (growth rates of runs), ramp (nonlinear, speed ramped down), linear (eigenvalues); repeatable.
+    #[arg(long = "method", value_name = "M", default_value = "time")]
+    pub method: Vec<crate::studies::critical_speed::CriticalSpeedMethod>,
+    /// Start transient skipped by the growth-rate fit [s].
+    #[arg(long, default_value_t = 1.0, value_name = "S")]
+    pub skip_s: f64,
+    /// Deceleration of the ramp [m/s²].
+    #[arg(long, default_value_t = 0.5, value_name = "A")]
+    pub ramp_deceleration: f64,
+    /// Set a scene entry for every run (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Output directory (rates.csv, rates.png, runs/).
+    #[arg(long, value_name = "DIR", default_value = "critical_speed")]
+    pub out: PathBuf,
+    /// Print JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Arguments of `sim run`.
+#[derive(Debug, clap::Args)]
+pub struct RunArgs {
+    /// Scene file (TOML); without it, the paper's single-wheelset case on the shipped data.
+    #[arg(value_name = "SCENE.toml")]
+    pub scene: Option<PathBuf>,
+    /// Results file (HDF5) [default: <scene name>.h5 in the current directory].
+    #[arg(short, long, value_name = "OUT.h5")]
+    pub output: Option<PathBuf>,
+    /// Override a scene entry, e.g. --set initial.speed_m_s=20 (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Directory for the PNG plots [default: OUT without .h5, then _plots].
+    #[arg(long, value_name = "DIR")]
+    pub plots: Option<PathBuf>,
+    /// Do not draw plots.
+    #[arg(long, conflicts_with = "plots")]
+    pub no_plots: bool,
+    /// Print the summary as JSON.
+    #[arg(long)]
+    pub json: bool,
+    /// No progress bar.
+    #[arg(long, short)]
+    pub quiet: bool,
+    /// Model only what the scene requires: the planner chooses the flange
+    /// search, contact method, table step and track range wherever the
+    /// scene leaves them out (= --set plan.mode=required; README "Only what
+    /// the scene requires").
+    #[arg(long, conflicts_with = "model_everything")]
+    pub plan: bool,
+    /// Model everything: flange always searched, online contact, the finest
+    /// table step, the whole track (= --set plan.mode=everything).
+    #[arg(long)]
+    pub model_everything: bool,
+    /// Print the plan (what the run would model, and why) and exit.
+    #[arg(long)]
+    pub plan_only: bool,
+}
+
+impl RunArgs {
+    /// Second stage: the checked request.
+    pub fn to_request(&self) -> Result<crate::report::run_files::RunRequest> {
+        use crate::config::scene::LoadedScene;
+        let mut set = self.set.clone();
+        if self.plan {
+            set.push("plan.mode=\"required\"".into());
+        }
+        if self.model_everything {
+            set.push("plan.mode=\"everything\"".into());
+        }
+        let (scene, stem) = match &self.scene {
+            Some(p) => (
+                LoadedScene::load(p, &set)?,
+                p.file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_else(|| "run".into()),
+            ),
+            None => (
+                LoadedScene::default_scene(&set)?,
+                "wheelset_straight".to_string(),
+            ),
+        };
+        let output = self
+            .output
+            .clone()
+            .unwrap_or_else(|| PathBuf::from(format!("{stem}.h5")));
+        // Refused before the run, not after it when the results are written.
+        if let Some(dir) = output.parent().filter(|d| !d.as_os_str().is_empty()) {
+            anyhow::ensure!(
+                dir.is_dir(),
+                "the results file {} cannot be written: the directory {} does not exist",
+                output.display(),
+                dir.display()
+            );
+        }
+        let plots = if self.no_plots {
+            None
+        } else {
+            Some(self.plots.clone().unwrap_or_else(|| {
+                let mut p = output.with_extension("").into_os_string();
+                p.push("_plots");
+                PathBuf::from(p)
+            }))
+        };
+        Ok(crate::report::run_files::RunRequest {
+            scene,
+            output,
+            plots,
+        })
+    }
+}
+
+/// Arguments of `sim creep-curves`.
+#[derive(Debug, clap::Args)]
+pub struct CreepCurveArgs {
+    /// Output directory (creep_curves.png, creep_curves.csv).
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+    /// Normal force [N].
+    #[arg(long, default_value_t = 80_000.0, value_name = "N")]
+    pub normal_n: f64,
+    /// Semi-axis of the contact ellipse in the rolling direction [mm] (with --b-mm; default: Hertz from the radii).
+    #[arg(long, value_name = "MM", requires = "b_mm")]
+    pub a_mm: Option<f64>,
+    /// Lateral semi-axis [mm] (with --a-mm).
+    #[arg(long, value_name = "MM", requires = "a_mm")]
+    pub b_mm: Option<f64>,
+    /// Wheel rolling radius for the Hertz ellipse [m].
+    #[arg(long, default_value_t = 0.46, value_name = "M")]
+    pub wheel_radius: f64,
+    /// Rail head transverse radius for the Hertz ellipse [m].
+    #[arg(long, default_value_t = 0.3, value_name = "M")]
+    pub rail_head_radius: f64,
+    /// Coefficient of friction.
+    #[arg(long, default_value_t = 0.3, value_name = "MU")]
+    pub mu: f64,
+    /// Rolling speed [m/s] (slip-velocity dependent friction).
+    #[arg(long, default_value_t = 30.0, value_name = "V")]
+    pub speed_m_s: f64,
+    /// Young's modulus [Pa].
+    #[arg(long, default_value_t = 210e9, value_name = "E")]
+    pub young_pa: f64,
+    /// Poisson's ratio.
+    #[arg(long, default_value_t = 0.3, value_name = "NU")]
+    pub poisson: f64,
+    /// Largest creepage of the ξ and η sweeps (default: twice the heuristic law's saturation creepage).
+    #[arg(long, value_name = "S")]
+    pub max_creepage: Option<f64>,
+    /// Points per curve.
+    #[arg(long, default_value_t = 201, value_name = "K")]
+    pub points: usize,
+    /// FASTSIM strips across the ellipse.
+    #[arg(long, value_name = "K")]
+    pub fastsim_strips: Option<usize>,
+    /// FASTSIM elements per strip.
+    #[arg(long, value_name = "K")]
+    pub fastsim_elements: Option<usize>,
+}
+
+impl CreepCurveArgs {
+    /// Second stage: checked settings.
+    pub fn to_config(&self) -> Result<crate::studies::creep_curves::CreepCurveConfig> {
+        use crate::studies::creep_curves::CreepCurveConfig;
+        let material = crate::studies::contact::material(self.young_pa, self.poisson);
+        material.validate().context("--young-pa / --poisson")?;
+        let (a_m, b_m) = match (self.a_mm, self.b_mm) {
+            (Some(a), Some(b)) => (a * 1e-3, b * 1e-3),
+            _ => CreepCurveConfig::from_radii(
+                self.normal_n,
+                self.wheel_radius,
+                self.rail_head_radius,
+                material,
+            )?,
+        };
+        let mut fastsim = runtime::creep::FastsimParams::default();
+        if let Some(k) = self.fastsim_strips {
+            fastsim.strips = k;
+        }
+        if let Some(k) = self.fastsim_elements {
+            fastsim.elements_per_strip = k;
+        }
+        let config = CreepCurveConfig {
+            normal_force_n: self.normal_n,
+            a_m,
+            b_m,
+            friction_coefficient: self.mu,
+            speed_m_s: self.speed_m_s,
+            material,
+            max_creepage: self.max_creepage,
+            points: self.points,
+            fastsim,
+        };
+        config.validate()?;
+        Ok(config)
+    }
+}
+
+impl ContactArgs {
+    /// Second stage: the wheelset's motion and the force models.
+    pub fn to_rolling(&self) -> Result<crate::studies::contact::Rolling> {
+        let creep_law = CreepLaw::from_name(&self.creep)
+            .with_context(|| format!("--creep {}: unknown creep law", self.creep))?;
+        let settings = runtime::contact_force::ContactForceSettings {
+            material: crate::studies::contact::material(self.young_pa, self.poisson),
+            friction_coefficient: self.mu,
+            creep_law,
+            ..Default::default()
+        };
+        settings.validate().context("force model settings")?;
+        if !(self.speed_m_s.is_finite() && self.speed_m_s >= 0.0) {
+            anyhow::bail!(
+                "--speed-m-s must be finite and >= 0, got {}",
+                self.speed_m_s
+            );
+        }
+        Ok(crate::studies::contact::Rolling {
+            speed_m_s: self.speed_m_s,
+            settings,
+        })
+    }
+
+    /// Second stage: checked settings.
+    pub fn to_config(&self) -> Result<preproc::contact_table::ContactTableConfig> {
+        use preproc::contact_table::{ContactTableConfig, TableSupport};
+        let inclination: preproc::Inclination = self
+            .rail_inclination
+            .parse()
+            .map_err(anyhow::Error::msg)
+            .context("--rail-inclination")?;
+        let config = ContactTableConfig {
+            wheel_profile: self.wheel.clone(),
+            rail_profile: self.rail.clone(),
+            profile_scheme: self.profile_scheme.parse()?,
+            wheel_radius_m: self.wheel_radius,
+            back_to_back_m: self.back_to_back,
+            gauge_m: self.gauge,
+            rail_spacing_m: self.gauge + 2.0 * preproc::config::DEFAULT_GAUGE_FACE_OFFSET_M,
+            rail_inclination_rad: inclination.angle_rad,
+            support: if self.rigid {
+                TableSupport::Rigid
+            } else {
+                TableSupport::Elastic {
+                    wheel_load_n: self.wheel_load_n,
+                    material: crate::studies::contact::material(self.young_pa, self.poisson),
+                }
+            },
+            ..Default::default()
+        };
+        config.validate()?;
+        Ok(config)
+    }
+}
