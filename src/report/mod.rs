@@ -1,4 +1,5 @@
-//! Reports of results: a run's results file and plots.
+//! Reports of results: a run's results file, plots and text summary.
 
 pub mod run_files;
 pub mod run_plots;
+pub mod run_text;
