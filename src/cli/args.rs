@@ -32,16 +32,16 @@ pub enum Command {
         /// Scene file (TOML).
         #[arg(value_name = "SCENE.toml")]
         scene: PathBuf,
-        /// Lowest speed [m/s].
+        /// Lowest speed (m/s).
         #[arg(long, value_name = "V")]
         min: f64,
-        /// Highest speed (start of the ramp-down) [m/s].
+        /// Highest speed (start of the ramp-down) (m/s).
         #[arg(long, value_name = "V")]
         max: f64,
-        /// Speed step of the up-scan [m/s].
+        /// Speed step of the up-scan (m/s).
         #[arg(long, default_value_t = 2.0, value_name = "V")]
         step: f64,
-        /// Deceleration of the ramp-down [m/s²].
+        /// Deceleration of the ramp-down (m/s²).
         #[arg(long, default_value_t = 0.5, value_name = "A")]
         ramp_deceleration: f64,
         /// Runs in parallel [default: the number of cores].
@@ -92,7 +92,7 @@ pub enum Command {
         /// Track table file written by `track-preproc build`.
         #[arg(value_name = "TABLES.h5")]
         file: PathBuf,
-        /// Centreline distance s [m].
+        /// Centreline distance s (m).
         #[arg(long, value_name = "S", allow_negative_numbers = true)]
         s: f64,
         /// Print JSON.
@@ -104,25 +104,25 @@ pub enum Command {
 /// Arguments of `sim contact`.
 #[derive(Debug, clap::Args)]
 pub struct ContactArgs {
-    /// Wheel profile (SIMPACK .prw, two columns y z [mm], or CSV y_mm,z_mm).
+    /// Wheel profile (SIMPACK .prw, two columns y z (mm), or CSV y_mm,z_mm).
     #[arg(long, value_name = "FILE")]
     pub wheel: PathBuf,
     /// Rail profile (SIMPACK .prr, two columns, or CSV).
     #[arg(long, value_name = "FILE")]
     pub rail: PathBuf,
-    /// Track gauge [m] (between the gauge points, 14 mm below the top).
+    /// Track gauge (m) (between the gauge points, 14 mm below the top).
     #[arg(long, default_value_t = 1.435, value_name = "M")]
     pub gauge: f64,
-    /// Distance between the flange backs [m].
+    /// Distance between the flange backs (m).
     #[arg(long, default_value_t = 1.360, value_name = "M")]
     pub back_to_back: f64,
-    /// Nominal rolling radius at the taping line [m].
+    /// Nominal rolling radius at the taping line (m).
     #[arg(long, default_value_t = 0.46, value_name = "M")]
     pub wheel_radius: f64,
     /// Rail inclination towards the track centre: 1:40, 1:20, 0, …
     #[arg(long, default_value = "0", value_name = "R")]
     pub rail_inclination: String,
-    /// Lateral shift of the wheelset, positive to the left [mm].
+    /// Lateral shift of the wheelset, positive to the left (mm).
     #[arg(
         long,
         default_value_t = 0.0,
@@ -130,7 +130,7 @@ pub struct ContactArgs {
         allow_negative_numbers = true
     )]
     pub y_mm: f64,
-    /// Yaw of the wheelset, positive turning its nose left [mrad].
+    /// Yaw of the wheelset, positive turning its nose left (mrad).
     #[arg(
         long,
         default_value_t = 0.0,
@@ -138,13 +138,13 @@ pub struct ContactArgs {
         allow_negative_numbers = true
     )]
     pub yaw_mrad: f64,
-    /// Vertical load per wheel [N] (Hertzian contact).
+    /// Vertical load per wheel (N) (Hertzian contact).
     #[arg(long, default_value_t = 10_000.0, value_name = "N")]
     pub wheel_load_n: f64,
     /// Rigid contact instead (both wheels just touching).
     #[arg(long)]
     pub rigid: bool,
-    /// Young's modulus [Pa].
+    /// Young's modulus (Pa).
     #[arg(long, default_value_t = 210e9, value_name = "E")]
     pub young_pa: f64,
     /// Poisson's ratio.
@@ -153,7 +153,7 @@ pub struct ContactArgs {
     /// Spline scheme of the profile functions.
     #[arg(long, default_value = "cubic", value_parser = ["cubic", "cubic-natural", "akima", "pchip"])]
     pub profile_scheme: String,
-    /// Forward speed of the wheelset [m/s]; it spins at V/r₀ about its axle.
+    /// Forward speed of the wheelset (m/s); it spins at V/r₀ about its axle.
     #[arg(long, default_value_t = 30.0, value_name = "V")]
     pub speed_m_s: f64,
     /// Creep law.
@@ -176,13 +176,13 @@ pub struct CriticalSpeedArgs {
     /// Creep law (repeatable) [default: the scene's].
     #[arg(long = "creep", value_name = "LAW")]
     pub creep: Vec<crate::config::scene::CreepLawName>,
-    /// Lowest speed of the search [m/s].
+    /// Lowest speed of the search (m/s).
     #[arg(long, default_value_t = 10.0, value_name = "V")]
     pub min: f64,
-    /// Highest speed of the search (and start of the ramp) [m/s].
+    /// Highest speed of the search (and start of the ramp) (m/s).
     #[arg(long, default_value_t = 120.0, value_name = "V")]
     pub max: f64,
-    /// Width of the final bracket [m/s].
+    /// Width of the final bracket (m/s).
     #[arg(long, default_value_t = 0.1, value_name = "V")]
     pub tol: f64,
     /// Runs in parallel [default: the number of cores].
@@ -191,10 +191,10 @@ pub struct CriticalSpeedArgs {
     /// time (growth rates of runs), ramp (nonlinear, speed ramped down), linear (eigenvalues); repeatable.
     #[arg(long = "method", value_name = "M", default_value = "time")]
     pub method: Vec<crate::studies::critical_speed::CriticalSpeedMethod>,
-    /// Start transient skipped by the growth-rate fit [s].
+    /// Start transient skipped by the growth-rate fit (s).
     #[arg(long, default_value_t = 1.0, value_name = "S")]
     pub skip_s: f64,
-    /// Deceleration of the ramp [m/s²].
+    /// Deceleration of the ramp (m/s²).
     #[arg(long, default_value_t = 0.5, value_name = "A")]
     pub ramp_deceleration: f64,
     /// Set a scene entry for every run (repeatable).
@@ -214,7 +214,7 @@ pub struct RunArgs {
     /// Scene file (TOML); without it, the paper's single-wheelset case on the shipped data.
     #[arg(value_name = "SCENE.toml")]
     pub scene: Option<PathBuf>,
-    /// Results file (HDF5) [default: <scene name>.h5 in the current directory].
+    /// Results file (HDF5) [default: SCENE.h5 in the current directory, SCENE the scene file's name].
     #[arg(short, long, value_name = "OUT.h5")]
     pub output: Option<PathBuf>,
     /// Override a scene entry, e.g. --set initial.speed_m_s=20 (repeatable).
@@ -306,28 +306,28 @@ pub struct CreepCurveArgs {
     /// Output directory (creep_curves.png, creep_curves.csv).
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
-    /// Normal force [N].
+    /// Normal force (N).
     #[arg(long, default_value_t = 80_000.0, value_name = "N")]
     pub normal_n: f64,
-    /// Semi-axis of the contact ellipse in the rolling direction [mm] (with --b-mm; default: Hertz from the radii).
+    /// Semi-axis of the contact ellipse in the rolling direction (mm) (with --b-mm; default: Hertz from the radii).
     #[arg(long, value_name = "MM", requires = "b_mm")]
     pub a_mm: Option<f64>,
-    /// Lateral semi-axis [mm] (with --a-mm).
+    /// Lateral semi-axis (mm) (with --a-mm).
     #[arg(long, value_name = "MM", requires = "a_mm")]
     pub b_mm: Option<f64>,
-    /// Wheel rolling radius for the Hertz ellipse [m].
+    /// Wheel rolling radius for the Hertz ellipse (m).
     #[arg(long, default_value_t = 0.46, value_name = "M")]
     pub wheel_radius: f64,
-    /// Rail head transverse radius for the Hertz ellipse [m].
+    /// Rail head transverse radius for the Hertz ellipse (m).
     #[arg(long, default_value_t = 0.3, value_name = "M")]
     pub rail_head_radius: f64,
     /// Coefficient of friction.
     #[arg(long, default_value_t = 0.3, value_name = "MU")]
     pub mu: f64,
-    /// Rolling speed [m/s] (slip-velocity dependent friction).
+    /// Rolling speed (m/s) (slip-velocity dependent friction).
     #[arg(long, default_value_t = 30.0, value_name = "V")]
     pub speed_m_s: f64,
-    /// Young's modulus [Pa].
+    /// Young's modulus (Pa).
     #[arg(long, default_value_t = 210e9, value_name = "E")]
     pub young_pa: f64,
     /// Poisson's ratio.

@@ -8,7 +8,7 @@
 //! ```toml
 //! title = "ML95-like wheelset, 300 m straight (paper §5, Fig. 15)"
 //!
-//! [track]
+//! (track)
 //! centerline = "../tracks/straight_300m/centerline.csv"  # built on demand, cached
 //! # cant = "…", irregularities = "…"      optional CSV inputs
 //! # tables = "straight.h5"                or a table file from track-preproc
@@ -18,10 +18,10 @@
 //! rail_inclination = "1:40"
 //! rail_profile = "../profiles/MBench_UIC60_v3.prr"
 //!
-//! [vehicle]
+//! (vehicle)
 //! file = "../vehicles/ml95_like_wheelset.toml"
 //!
-//! [contact]
+//! (contact)
 //! method = "online"         # online | table | imported
 //! # imported_table = "../contact/cooperrider_RSGEO.dat"  # method = "imported": a .h5 from
 //! #                         # track-preproc import-contact-table, or the RSGEO .dat itself
@@ -32,7 +32,7 @@
 //! restitution = 0.9
 //! # non_hertzian = "stop"   # stop | floor: where Hertz does not apply (conformal contact)
 //!
-//! [initial]
+//! (initial)
 //! speed_m_s = 10.0
 //! s_m = 5.0                 # track distance of the vehicle reference point
 //! lateral_m = -0.002        # every wheelset, + left
@@ -41,7 +41,7 @@
 //! # final_speed_m_s = 0.0   # a speed ramp of the track-following references, held at
 //! #                         # final_speed_m_s (braking: 0 by default; < 0 reverses)
 //!
-//! [run]
+//! (run)
 //! distance_m = 280.0        # or duration_s
 //! integrator = "rk4"        # rk4 | dopri5
 //! step_s = 1e-4             # rk4
@@ -53,16 +53,16 @@
 //! # lateral_tolerance_m = 1e-5  # optional: the error of the lateral displacement the
 //! #                             # run accepts; lets the planner use the contact table
 //!
-//! # [plan]                      # optional: model only what the scene requires
+//! # (plan)                      # optional: model only what the scene requires
 //! # mode = "required"           # scene (default) | required | everything
-//! # choose = ["flange"]         # items the planner chooses even when set above
+//! # choose = ("flange")         # items the planner chooses even when set above
 //!
-//! # [load]                      # optional: constant loads on the wheelsets (crate::config::load)
+//! # (load)                      # optional: constant loads on the wheelsets (crate::config::load)
 //! # lateral_force_n = 20000.0   # + left; yaw_moment_nm, yaw_stiffness_nm_rad, yaw_angle_rad
-//! # [perturbation]              # optional: drop_m, lateral_velocity_m_s at t = 0
+//! # (perturbation)              # optional: drop_m, lateral_velocity_m_s at t = 0
 //! ```
 //!
-//! The `[plan]` section and `track.range_m` are described in
+//! The `(plan)` section and `track.range_m` are described in
 //! the planner (`docs/guide/speed-accuracy-tradeoff.md`): with `mode = "required"` the planner chooses the
 //! flange search, the contact method, the table step and the track range
 //! wherever the scene leaves them out (or lists them in `choose`).
@@ -713,7 +713,7 @@ impl Scene {
         Ok(())
     }
 
-    /// The references' speed against time ([initial] speed_m_s,
+    /// The references' speed against time (`[initial]` speed_m_s,
     /// acceleration_m_s2 or deceleration_m_s2, final_speed_m_s).
     pub fn speed_ramp(&self) -> SpeedRamp {
         let i = &self.initial;

@@ -3,7 +3,7 @@
 //! (the report layer). The track tables (and, with
 //! `method = "table"`, the contact lookup tables) are built on demand and
 //! cached ([`crate::session::cache`]); the vehicle file becomes a
-//! [`VehicleModel`]; the system is integrated with the scene's method while
+//! `runtime::dynamics::VehicleModel`; the system is integrated with the scene's method while
 //! outputs are sampled at the scene's interval. Ctrl-C (a stop flag) ends
 //! the run at the next accepted step with the results so far, as does a
 //! failure (derailment, a contact that cannot be solved): the error is

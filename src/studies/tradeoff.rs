@@ -1381,7 +1381,7 @@ pub struct TradeoffArgs {
     /// Add a variant: NAME:KEY=VALUE;KEY=VALUE… applied after the reference's overrides (repeatable).
     #[arg(long = "variant", value_name = "SPEC")]
     pub variant: Vec<String>,
-    /// Also the time-domain critical speed of every variant: MIN:MAX:TOL[:DISTANCE_M] (m/s, m; expensive).
+    /// Also the time-domain critical speed of every variant: MIN:MAX:TOL or MIN:MAX:TOL:DISTANCE_M (m/s, m; expensive).
     #[arg(long, value_name = "SPEC")]
     pub critical_speed: Option<String>,
     /// Parallel runs of the critical-speed searches [default: the number of cores].
