@@ -12,11 +12,12 @@
 //! - [`recorder`]: sampled outputs into [`crate::schema::results::RunResults`];
 //! - [`linear`]: linearisation around the centred run, modes, hunting.
 //!
-//! State: 13 variables per wheelset and free body (position, unit
-//! quaternion, velocity, body angular velocity; [`crate::body::BodyState`]),
-//! wheelsets first. Wheelsets are ordinary rigid bodies whose spin about
-//! the axle is part of their angular velocity; their contact geometry and
-//! the elements attached to them use the non-spinning axle frame.
+//! State: [`crate::body::BodyState::LEN`] (13) variables per wheelset and
+//! free body (position, unit quaternion, velocity, body angular velocity;
+//! [`crate::body::BodyState`]), wheelsets first. Wheelsets are ordinary
+//! rigid bodies whose spin about the axle is part of their angular
+//! velocity; their contact geometry and the elements attached to them use
+//! the non-spinning axle frame.
 
 pub mod imported_contact;
 pub mod linear;

@@ -1,8 +1,8 @@
 //! The vehicle on the track as a first-order system y′ = f(t, y) (paper
 //! §4.1, Fig. 8; SPEC §8). One evaluation of f is the paper's step:
 //!
-//! a. the state of every body (wheelsets first, then free bodies; 13
-//!    variables each, [`crate::body::BodyState`]);
+//! a. the state of every body (wheelsets first, then free bodies;
+//!    [`BodyState::LEN`] variables each, [`crate::body::BodyState`]);
 //! b. contact search of every wheel, tread and flange, warm-started from the
 //!    previous solve ([`ContactSolver`]), or the contact lookup table;
 //! c. normal forces (Hertz with hysteresis, [`crate::normal`]);
@@ -667,7 +667,7 @@ impl<'a> VehicleSystem<'a> {
         let n_bodies = vehicle.wheelsets.len() + vehicle.bodies.len();
         let mut y0 = vec![0.0; vehicle.state_len()];
         for (k, st) in initial_states.iter().enumerate() {
-            st.write_to(&mut y0[13 * k..13 * k + 13]);
+            st.write_to(&mut y0[BodyState::slot(k)]);
         }
         let n_ws = vehicle.wheelsets.len();
         let (_, s_end) = c.range_m();
@@ -858,7 +858,7 @@ impl<'a> VehicleSystem<'a> {
         let c = &track.centerline;
         let n_ws = vehicle.wheelsets.len();
         for (i, w) in vehicle.wheelsets.iter().enumerate() {
-            let st = BodyState::read_from(&y[13 * i..13 * i + 13]);
+            let st = BodyState::read_from(&y[BodyState::slot(i)]);
             let s = project_s(c, &st.position_m, self.s_guess[i]).map_err(|source| {
                 DynamicsError::Track {
                     what: format!("wheelset '{}'", w.name),
@@ -981,7 +981,7 @@ impl<'a> VehicleSystem<'a> {
         }
         for (j, _) in vehicle.bodies.iter().enumerate() {
             let k = n_ws + j;
-            let st = BodyState::read_from(&y[13 * k..13 * k + 13]);
+            let st = BodyState::read_from(&y[BodyState::slot(k)]);
             self.anchors[k] = Anchor::from_body(&st);
             self.wrenches[k] = Wrench::zero();
             self.states[k] = st;
@@ -1081,7 +1081,7 @@ impl OdeSystem for VehicleSystem<'_> {
                 &self.states[k],
                 &self.wrenches[k],
                 &g,
-                &mut dydt[13 * k..13 * k + 13],
+                &mut dydt[BodyState::slot(k)],
             );
         }
         Ok(())
