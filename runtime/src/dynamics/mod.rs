@@ -6,7 +6,9 @@
 //!   configuration;
 //! - [`track_motion`]: positions relative to the track, reference motion;
 //! - [`system`]: the vehicle on the track as a first-order system for
-//!   [`crate::integrator`] (the paper's per-step algorithm);
+//!   [`crate::integrator`]; its settings (`settings`), errors (`error`),
+//!   assembly (`assemble`), evaluation — the paper's per-step algorithm
+//!   (`evaluate`) — and energy bookkeeping (`energy`);
 //! - [`table_contact`]: contact from the lookup table instead of Newton;
 //! - [`imported_contact`]: contact from a table computed by another code;
 //! - [`recorder`]: sampled outputs into [`crate::schema::results::RunResults`];
@@ -19,18 +21,27 @@
 //! velocity; their contact geometry and the elements attached to them use
 //! the non-spinning axle frame.
 
+mod assemble;
+mod energy;
+mod error;
+mod evaluate;
 pub mod imported_contact;
 pub mod linear;
 pub mod recorder;
+mod settings;
 pub mod system;
 pub mod table_contact;
 pub mod track_motion;
 pub mod vehicle;
 
+pub use energy::EnergyLedger;
+pub use error::DynamicsError;
 pub use recorder::Recorder;
+pub use settings::{
+    BRAKE_STICK_SPEED_M_S, ContactMethod, GRAVITY_M_S2, InitialConditions, SystemSettings,
+};
 pub use system::{
-    ContactMethod, DynamicsError, GRAVITY_M_S2, InitialConditions, RunCounters, SystemSettings,
-    VehicleSystem, WheelsetSnapshot,
+    RunCounters, TRACK_END_MARGIN_M, TRACK_START_MARGIN_M, VehicleSystem, WheelsetSnapshot,
 };
 pub use track_motion::TrackRelative;
 pub use vehicle::{BodySpec, ElementSpec, End, ReferenceSpec, VehicleModel, WheelsetSpec};
