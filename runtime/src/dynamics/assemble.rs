@@ -5,9 +5,9 @@
 
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
+use super::contact_source::ContactContext;
 use super::error::DynamicsError;
-use super::imported_contact::settle_imported;
-use super::settings::{ContactMethod, InitialConditions, SystemSettings};
+use super::settings::{InitialConditions, SystemSettings};
 use super::system::{
     Memories, REFERENCE_DS_M, RunCounters, TRACK_END_MARGIN_M, VehicleSystem, WheelsetSnapshot,
     side_index,
@@ -15,7 +15,7 @@ use super::system::{
 use super::track_motion::{reference_anchor, track_rotation, vehicle_point};
 use super::vehicle::{End, VehicleModel};
 use crate::body::{BodyState, Wrench};
-use crate::contact::quasi_static::{Support, flange_clearance_m, settle};
+use crate::contact::quasi_static::flange_clearance_m;
 use crate::contact::{ContactSolver, FlangeSearch};
 use crate::element::{Anchor, SpringDamper};
 use crate::normal::ContactMemory;
@@ -42,13 +42,9 @@ impl<'a> VehicleSystem<'a> {
                 wheelset: String::from("(all)"),
                 reason: e.to_string(),
             })?;
-        if let ContactMethod::Imported(m) = &settings.method {
-            m.validate(&settings.forces, vehicle.wheelsets.len())
-                .map_err(|reason| DynamicsError::Assembly {
-                    wheelset: String::from("(all)"),
-                    reason,
-                })?;
-        }
+        let mut sources = settings
+            .method
+            .sources(&settings.forces, vehicle.wheelsets.len())?;
         settings.validate_motion()?;
         let speed = settings.speed_m_s;
         for (name, v) in [
@@ -85,13 +81,12 @@ impl<'a> VehicleSystem<'a> {
                 source,
             }
         };
-        let material = settings.forces.material;
         let mut solvers = Vec::new();
         let mut nominal_anchors = Vec::new();
         let mut initial_states = Vec::new();
         let mut memory = Vec::new();
         let mut s_guess = Vec::new();
-        for (i, w) in vehicle.wheelsets.iter().enumerate() {
+        for (w, source) in vehicle.wheelsets.iter().zip(&mut sources) {
             let assembly_err = |reason: String| DynamicsError::Assembly {
                 wheelset: w.name.clone(),
                 reason,
@@ -118,17 +113,15 @@ impl<'a> VehicleSystem<'a> {
             }
             let mut solver = ContactSolver::new(options);
             let s_w = s0 + w.x_m;
-            let support = Support::Elastic {
-                load_per_wheel_n: w.static_wheel_load_n,
-                material,
-            };
-            // The imported method seats the wheelset from its table
-            // (`settle_imported`); the others settle it on its profiles.
-            let settle_at = |y: f64, yaw: f64, solver: &mut ContactSolver| match &settings.method {
-                ContactMethod::Imported(m) => {
-                    settle_imported(track, &m.tables[i], s_w, y, yaw, w.static_wheel_load_n)
-                }
-                _ => settle(&w.contact, track, s_w, y, yaw, support, solver),
+            // Seated by its contact source (on its profiles, or from an
+            // imported table).
+            let mut settle_at = |y: f64, yaw: f64, solver: &mut ContactSolver| {
+                let ctx = ContactContext {
+                    track,
+                    wheelset: w,
+                    solver,
+                };
+                source.settle(ctx, &settings.forces, s_w, y, yaw)
             };
             let nominal = settle_at(w.y_m, 0.0, &mut solver)
                 .map_err(|e| assembly_err(format!("settling at assembly: {e}")))?;
@@ -253,6 +246,7 @@ impl<'a> VehicleSystem<'a> {
             vehicle,
             elements,
             solvers,
+            sources,
             s_guess,
             pending: memory.clone(),
             memory,

@@ -3,29 +3,33 @@
 //!
 //! a. the state of every body (wheelsets first, then free bodies;
 //!    [`BodyState::LEN`] variables each, [`crate::body::BodyState`]);
-//! b. contact search of every wheel, tread and flange, warm-started from the
-//!    previous solve ([`ContactSolver`]), or the contact lookup table;
-//! c. normal forces (Hertz with hysteresis, [`crate::normal`]);
-//! d. creepages and creep forces ([`crate::contact_force`]);
+//! b. the contacts of every wheel, tread and flange, from the wheelset's
+//!    [`super::ContactSource`] (online: a contact search warm-started from
+//!    the previous solve, [`crate::contact::ContactSolver`]; or the
+//!    contact lookup table; or an imported table);
+//! c. normal forces (online and table: Hertz with hysteresis,
+//!    [`crate::normal`]) and
+//! d. creepages and creep forces ([`crate::contact_force`]), from the
+//!    same source;
 //! e. suspension forces (elements between bodies, wheelsets and the
 //!    track-following references) and gravity;
 //! f. Newton–Euler accelerations ([`crate::body::derivatives`]).
 //!
 //! The surface parameters of the last solve are the next initial guess;
 //! the hysteresis memory of each contact is committed only at accepted
-//! states ([`OdeSystem::accept`]), so rejected trial steps leave no trace.
+//! states ([`crate::integrator::OdeSystem::accept`]), so rejected trial
+//! steps leave no trace.
 
 use nalgebra::{Matrix3, Vector3};
 
+use super::contact_source::ContactContext;
 use super::error::DynamicsError;
-use super::imported_contact::{imported_contacts, imported_force};
-use super::settings::{BRAKE_STICK_SPEED_M_S, ContactMethod};
+use super::settings::BRAKE_STICK_SPEED_M_S;
 use super::system::{REFERENCE_DS_M, VehicleSystem};
-use super::table_contact::table_contacts;
 use super::track_motion::{project_s, reference_anchor, track_relative, track_rotation};
 use crate::body::{BodyState, Wrench};
 use crate::contact::WheelsetPose;
-use crate::contact_force::{WheelsetMotion, evaluate_contact};
+use crate::contact_force::WheelsetMotion;
 use crate::element::Anchor;
 use crate::normal::ContactMemory;
 
@@ -78,25 +82,18 @@ impl VehicleSystem<'_> {
             // Written in place: a snapshot holds a dozen candidates and
             // forces (kilobytes), copying them costs more than their maths.
             let snap = &mut self.snapshots[i];
-            let mut imported_rows = None;
-            snap.contacts = match &self.settings.method {
-                ContactMethod::Online => self.solvers[i].solve(&w.contact, track, &pose),
-                ContactMethod::Table(tables) => {
-                    table_contacts(&w.contact, track, &pose, &relative, &tables[i])
+            let source = &mut self.sources[i];
+            let ctx = ContactContext {
+                track,
+                wheelset: w,
+                solver: &mut self.solvers[i],
+            };
+            snap.contacts = source.contacts(ctx, &pose, &relative).map_err(|source| {
+                DynamicsError::Contact {
+                    wheelset: w.name.clone(),
+                    t_s: t,
+                    source,
                 }
-                ContactMethod::Imported(m) => {
-                    imported_contacts(track, &pose, relative.lateral_m, &m.tables[i]).map(
-                        |(contacts, rows)| {
-                            imported_rows = Some(rows);
-                            contacts
-                        },
-                    )
-                }
-            }
-            .map_err(|source| DynamicsError::Contact {
-                wheelset: w.name.clone(),
-                t_s: t,
-                source,
             })?;
             let omega = st.angular_velocity_global();
             let motion = WheelsetMotion {
@@ -116,26 +113,18 @@ impl VehicleSystem<'_> {
                     let Some(cand) = &snap.contacts.candidates[k][seg] else {
                         continue;
                     };
-                    let f = match (&self.settings.method, &imported_rows) {
-                        (ContactMethod::Imported(m), Some(rows)) => imported_force(
-                            &self.settings.forces,
-                            m.shear_modulus_pa(&self.settings.forces),
-                            &rows[k],
-                            cand,
-                            &motion,
-                        ),
-                        _ => evaluate_contact(
+                    let f = source
+                        .force(
                             &self.settings.forces,
                             cand,
                             &self.memory[i][k][seg],
                             &motion,
-                        ),
-                    }
-                    .map_err(|source| DynamicsError::Force {
-                        wheelset: w.name.clone(),
-                        t_s: t,
-                        source,
-                    })?;
+                        )
+                        .map_err(|source| DynamicsError::Force {
+                            wheelset: w.name.clone(),
+                            t_s: t,
+                            source,
+                        })?;
                     if let Some(f) = f {
                         wrench.add_force_at(&st.position_m, &f.point_m, &f.force_on_wheel_n);
                         wrench.add_moment(&f.moment_on_wheel_nm);

@@ -90,7 +90,8 @@ use std::sync::{Arc, OnceLock};
 
 use nalgebra::Vector3;
 
-use super::track_motion::track_rotation;
+use super::contact_source::{ContactContext, ContactSource};
+use super::track_motion::{TrackRelative, track_rotation};
 use crate::contact::quasi_static::Settled;
 use crate::contact::{
     Candidate, ContactError, Curvatures, SolveMethod, SurfaceParams, WheelsetContacts, WheelsetPose,
@@ -155,6 +156,80 @@ impl ImportedContactMethod {
             return Err(format!("shear modulus {g} Pa must be finite and > 0"));
         }
         Ok(())
+    }
+}
+
+/// The [`ContactSource`] of a wheelset with an imported table (module
+/// docs): seated by [`settle_imported`], one contact per wheel from the
+/// rows at its lateral displacement ([`imported_contacts`]), forces by
+/// [`imported_force`] from those rows (kept from the last
+/// [`ContactSource::contacts`]). Neither profiles nor the contact solver
+/// are used, nor the hysteresis memory (that model has no damping).
+#[derive(Debug, Clone)]
+pub struct ImportedContact {
+    table: Arc<ImportedContactTable>,
+    /// Shear modulus G of the creep forces (Pa),
+    /// [`ImportedContactMethod::shear_modulus_pa`].
+    shear_modulus_pa: f64,
+    /// The rows `[left, right]` of the last contacts.
+    rows: Option<[ImportedRow; 2]>,
+}
+
+impl ImportedContact {
+    pub fn new(table: Arc<ImportedContactTable>, shear_modulus_pa: f64) -> Self {
+        ImportedContact {
+            table,
+            shear_modulus_pa,
+            rows: None,
+        }
+    }
+}
+
+impl ContactSource for ImportedContact {
+    fn settle(
+        &mut self,
+        ctx: ContactContext<'_>,
+        _forces: &ContactForceSettings,
+        s_m: f64,
+        y_m: f64,
+        yaw_rad: f64,
+    ) -> Result<Settled, ContactError> {
+        let load = ctx.wheelset.static_wheel_load_n;
+        settle_imported(ctx.track, &self.table, s_m, y_m, yaw_rad, load)
+    }
+
+    fn contacts(
+        &mut self,
+        ctx: ContactContext<'_>,
+        pose: &WheelsetPose,
+        relative: &TrackRelative,
+    ) -> Result<WheelsetContacts, ContactError> {
+        let (contacts, rows) = imported_contacts(ctx.track, pose, relative.lateral_m, &self.table)?;
+        self.rows = Some(rows);
+        Ok(contacts)
+    }
+
+    fn force(
+        &self,
+        forces: &ContactForceSettings,
+        c: &Candidate,
+        _memory: &ContactMemory,
+        motion: &WheelsetMotion,
+    ) -> Result<Option<ContactForce>, ContactForceError> {
+        let Some(rows) = &self.rows else {
+            return Err(ContactForceError::InvalidSetting {
+                setting: "imported contact",
+                value: f64::NAN,
+                rule: "a force needs the rows of a contact search first",
+            });
+        };
+        imported_force(
+            forces,
+            self.shear_modulus_pa,
+            &rows[side_index(c.side)],
+            c,
+            motion,
+        )
     }
 }
 

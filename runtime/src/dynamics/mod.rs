@@ -9,6 +9,8 @@
 //!   [`crate::integrator`]; its settings (`settings`), errors (`error`),
 //!   assembly (`assemble`), evaluation — the paper's per-step algorithm
 //!   (`evaluate`) — and energy bookkeeping (`energy`);
+//! - [`contact_source`]: where a wheelset's contacts come from, one
+//!   [`ContactSource`] per wheelset (online, table, imported);
 //! - [`table_contact`]: contact from the lookup table instead of Newton;
 //! - [`imported_contact`]: contact from a table computed by another code;
 //! - [`recorder`]: sampled outputs into [`crate::schema::results::RunResults`];
@@ -22,6 +24,7 @@
 //! the non-spinning axle frame.
 
 mod assemble;
+pub mod contact_source;
 mod energy;
 mod error;
 mod evaluate;
@@ -34,8 +37,10 @@ pub mod table_contact;
 pub mod track_motion;
 pub mod vehicle;
 
+pub use contact_source::{ContactContext, ContactSource, OnlineContact};
 pub use energy::EnergyLedger;
 pub use error::DynamicsError;
+pub use imported_contact::ImportedContact;
 pub use recorder::Recorder;
 pub use settings::{
     BRAKE_STICK_SPEED_M_S, ContactMethod, GRAVITY_M_S2, InitialConditions, SystemSettings,
@@ -43,5 +48,6 @@ pub use settings::{
 pub use system::{
     RunCounters, TRACK_END_MARGIN_M, TRACK_START_MARGIN_M, VehicleSystem, WheelsetSnapshot,
 };
+pub use table_contact::TableContact;
 pub use track_motion::TrackRelative;
 pub use vehicle::{BodySpec, ElementSpec, End, ReferenceSpec, VehicleModel, WheelsetSpec};

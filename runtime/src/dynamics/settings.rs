@@ -26,7 +26,9 @@ pub const BRAKE_STICK_SPEED_M_S: f64 = 1e-3;
 /// Standard gravity (m/s²), SPEC §1.
 pub const GRAVITY_M_S2: f64 = 9.81;
 
-/// How the contact geometry is found at each evaluation.
+/// How the contact geometry is found at each evaluation: the run's choice,
+/// made into one [`super::ContactSource`] per wheelset at assembly
+/// ([`ContactMethod::sources`]).
 #[derive(Debug, Clone, PartialEq)]
 pub enum ContactMethod {
     /// Newton on the surface parameters at every evaluation (paper §4.2–4.3).

@@ -13,6 +13,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use nalgebra::Vector3;
 
+use super::contact_source::ContactSource;
 use super::track_motion::{SpeedRamp, TrackRelative};
 use super::vehicle::{End, VehicleModel};
 use crate::body::{BodyState, Wrench, derivatives};
@@ -89,6 +90,8 @@ pub struct VehicleSystem<'a> {
     pub(super) settings: SystemSettings,
     pub(super) elements: Vec<SpringDamper>,
     pub(super) solvers: Vec<ContactSolver>,
+    /// Where each wheelset's contacts come from.
+    pub(super) sources: Vec<Box<dyn ContactSource>>,
     pub(super) s_guess: Vec<f64>,
     pub(super) memory: Vec<Memories>,
     pub(super) pending: Vec<Memories>,
