@@ -74,7 +74,7 @@ pub struct ContactContext<'c> {
 
 /// The contacts of one wheelset (module docs: what a source provides,
 /// units and frames).
-pub trait ContactSource {
+pub trait ContactSource: std::fmt::Debug {
     /// The wheelset seated on the rails under its static wheel load at
     /// track distance `s_m` (m), lateral shift `y_m` (m, + left) and
     /// `yaw_rad` (rad, + nose left), with the run's force settings
@@ -208,5 +208,74 @@ impl ContactMethod {
                     .collect()
             }
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact_table::{ConicityTable, ContactTable, ContactTableMeta};
+    use crate::dynamics::imported_contact::ImportedContactMethod;
+    use crate::imported_contact::{ImportedContactTable, ImportedRow};
+
+    fn contact_table() -> Arc<ContactTable> {
+        Arc::new(ContactTable {
+            meta: ContactTableMeta::default(),
+            y_m: vec![-0.01, 0.01],
+            yaw_rad: vec![0.0],
+            rows: vec![Default::default(); 2],
+            conicity: ConicityTable::default(),
+        })
+    }
+
+    fn imported_table() -> Arc<ImportedContactTable> {
+        let row = ImportedRow {
+            normal_force_n: 66_000.0,
+            contact_angle_rad: 0.014,
+            a_m: 6e-3,
+            b_m: 6.5e-3,
+            wheel_lateral_m: 0.756,
+            rolling_radius_m: 0.425,
+            c11: 4.1,
+            c22: 3.6,
+            c23: 1.4,
+            rail_vertical_m: -6e-5,
+            penetration_m: 7e-5,
+        };
+        Arc::new(ImportedContactTable {
+            source: "test".into(),
+            format: "test".into(),
+            y_m: vec![-0.01, 0.0, 0.01],
+            rows: vec![row; 3],
+        })
+    }
+
+    #[test]
+    fn one_source_per_wheelset_or_a_named_refusal() {
+        let forces = ContactForceSettings::default();
+        assert_eq!(ContactMethod::Online.sources(&forces, 3).unwrap().len(), 3);
+        let table = ContactMethod::Table(vec![contact_table(); 2]);
+        assert_eq!(table.sources(&forces, 2).unwrap().len(), 2);
+        // Fewer tables than wheelsets: refused, not a panic at run time.
+        let e = table.sources(&forces, 3).unwrap_err().to_string();
+        assert!(e.contains("2 contact tables for 3 wheelsets"), "{e}");
+        let imported = |n| {
+            ContactMethod::Imported(ImportedContactMethod {
+                tables: vec![imported_table(); n],
+                shear_modulus_override_pa: None,
+            })
+        };
+        let heuristic = ContactForceSettings {
+            creep_law: crate::creep::CreepLaw::Heuristic,
+            ..Default::default()
+        };
+        assert_eq!(imported(2).sources(&heuristic, 2).unwrap().len(), 2);
+        let e = imported(1).sources(&heuristic, 2).unwrap_err().to_string();
+        assert!(
+            e.contains("1 imported contact tables for 2 wheelsets"),
+            "{e}"
+        );
+        // The imported method's own checks (its creep laws) still apply.
+        assert!(imported(2).sources(&forces, 2).is_err());
     }
 }

@@ -660,6 +660,101 @@ mod tests {
     }
 
     #[test]
+    fn the_source_gives_the_functions_settling_contacts_and_forces() {
+        use crate::body::RigidBody;
+        use crate::contact::{ContactOptions, ContactSolver, WheelsetContactModel};
+        use crate::dynamics::track_motion::TrackRelative;
+        use crate::dynamics::{ContactContext, ContactSource, WheelsetSpec};
+        use crate::profile::{RailPlacement, RailProfileOptions, WheelProfileOptions};
+        use crate::profile_import::{ImportOptions, load_rail, load_wheel};
+        let track = straight_track(100.0, 0.1, 1.435, 1.507, 0.0);
+        let t = table();
+        let g = 1.4384e11;
+        let settings = ContactForceSettings {
+            creep_law: CreepLaw::Heuristic,
+            ..Default::default()
+        };
+        // The wheelset's profiles and solver are not used, but a wheelset
+        // has them.
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tables/profiles");
+        let wheel = load_wheel(
+            &dir.join("MBench_S1002_v3.prw"),
+            &ImportOptions::default(),
+            WheelProfileOptions::default(),
+        )
+        .unwrap();
+        let rail = load_rail(
+            &dir.join("MBench_UIC60_v3.prr"),
+            &ImportOptions::default(),
+            RailProfileOptions::default(),
+        )
+        .unwrap();
+        let placement = RailPlacement {
+            gauge_m: 1.435,
+            rail_spacing_m: 1.507,
+            inclination_rad: 0.0,
+        };
+        let load = 66_602.3;
+        let w = WheelsetSpec {
+            name: "ws".into(),
+            body: RigidBody {
+                mass_kg: 1000.0,
+                inertia_kg_m2: nalgebra::Matrix3::identity(),
+            },
+            contact: WheelsetContactModel::new(wheel.clone(), wheel, 1.36, &rail, &rail, placement)
+                .unwrap(),
+            x_m: 0.0,
+            y_m: 0.0,
+            nominal_radius_m: 0.425,
+            static_wheel_load_n: load,
+        };
+        let mut solver = ContactSolver::new(ContactOptions::default());
+        let mut source = ImportedContact::new(Arc::new(t.clone()), g);
+        let y = 0.003;
+        let expected = settle_imported(&track, &t, 50.0, y, 0.001, load).unwrap();
+        macro_rules! ctx {
+            () => {
+                ContactContext {
+                    track: &track,
+                    wheelset: &w,
+                    solver: &mut solver,
+                }
+            };
+        }
+        // The same values, bit for bit (their curvatures are NaN, hence
+        // the comparison of the printed values).
+        let same = |a: &dyn std::fmt::Debug, b: &dyn std::fmt::Debug| {
+            assert_eq!(format!("{a:?}"), format!("{b:?}"))
+        };
+        let settled = source.settle(ctx!(), &settings, 50.0, y, 0.001).unwrap();
+        same(&settled, &expected);
+        let relative = TrackRelative {
+            lateral_m: y,
+            ..Default::default()
+        };
+        let c = settled.contacts.candidates[1][0].unwrap();
+        let motion = WheelsetMotion {
+            centre_m: settled.pose.position,
+            velocity_m_s: Vector3::new(30.0, 0.1, 0.0),
+            angular_velocity_rad_s: settled.pose.frame.column(1) * (30.0 / 0.425),
+            forward_speed_m_s: 30.0,
+        };
+        let memory = ContactMemory::not_in_contact();
+        // No rows before a contact search: an error, not a guess.
+        assert!(source.force(&settings, &c, &memory, &motion).is_err());
+        let contacts = source.contacts(ctx!(), &settled.pose, &relative).unwrap();
+        let (direct, rows) = imported_contacts(&track, &settled.pose, y, &t).unwrap();
+        same(&contacts, &direct);
+        for (k, row) in rows.iter().enumerate() {
+            let c = contacts.candidates[k][0].unwrap();
+            let f = source.force(&settings, &c, &memory, &motion).unwrap();
+            assert!(f.is_some());
+            same(&f, &imported_force(&settings, g, row, &c, &motion).unwrap());
+        }
+        assert_eq!(solver.stats.solves, 0);
+    }
+
+    #[test]
     fn force_at_the_tabulated_state_is_n0_and_creep_saturates() {
         let track = straight_track(100.0, 0.1, 1.435, 1.507, 0.0);
         let t = table();
