@@ -105,6 +105,7 @@ use crate::hertz::{HertzContact, HertzError, HertzShape};
 use crate::imported_contact::{ImportedContactTable, ImportedRow, ImportedTableError};
 use crate::normal::{ContactMemory, NormalForce};
 use crate::profile::{MAX_SEGMENTS, Zone};
+use crate::track::grid::within;
 use crate::track::{Side, TrackError, TrackTables};
 
 /// The imported-table contact method of a run (module docs).
@@ -277,7 +278,7 @@ pub fn wheel_rows(
     y_m: f64,
 ) -> Result<[ImportedRow; 2], ContactError> {
     let (lo, hi) = table.wheelset_range_m();
-    if y_m.is_nan() || y_m < lo || y_m > hi {
+    if !within(y_m, lo, hi, 0.0) {
         return Err(table_error(
             ImportedTableError::OutOfRange {
                 y_mm: y_m * 1e3,
