@@ -171,6 +171,12 @@ impl BodyState {
     /// Number of `f64`s a body occupies in a flat state vector.
     pub const LEN: usize = 13;
 
+    /// The indices of body `k`'s state in a flat state vector holding the
+    /// states of several bodies one after another ([`Self::LEN`] each).
+    pub fn slot(k: usize) -> std::ops::Range<usize> {
+        Self::LEN * k..Self::LEN * (k + 1)
+    }
+
     /// A body at rest at `position_m` with `orientation`.
     pub fn at_rest(position_m: Vector3<f64>, orientation: UnitQuaternion<f64>) -> Self {
         Self {
@@ -181,27 +187,27 @@ impl BodyState {
         }
     }
 
-    /// Writes the state into `y[..13]` in the layout of the module docs
+    /// Writes the state into `y[..Self::LEN]` in the layout of the module docs
     /// (quaternion as [w, i, j, k]).
     ///
     /// # Panics
-    /// If `y.len() < 13` (a programming error in the caller's layout).
+    /// If `y.len() < Self::LEN` (a programming error in the caller's layout).
     pub fn write_to(&self, y: &mut [f64]) {
         let y = &mut y[..Self::LEN];
         y[0..3].copy_from_slice(self.position_m.as_slice());
         let q = self.orientation.quaternion();
         y[3..7].copy_from_slice(&[q.w, q.i, q.j, q.k]);
         y[7..10].copy_from_slice(self.velocity_m_s.as_slice());
-        y[10..13].copy_from_slice(self.angular_velocity_rad_s.as_slice());
+        y[10..Self::LEN].copy_from_slice(self.angular_velocity_rad_s.as_slice());
     }
 
-    /// Reads a state from `y[..13]`, **normalising the quaternion**: a
+    /// Reads a state from `y[..Self::LEN]`, **normalising the quaternion**: a
     /// Runge–Kutta stage value (and, slowly, the stored state) drifts off the
     /// unit sphere, and only the normalised quaternion is a rotation (see the
     /// module docs). A zero quaternion gives NaN components.
     ///
     /// # Panics
-    /// If `y.len() < 13`.
+    /// If `y.len() < Self::LEN`.
     pub fn read_from(y: &[f64]) -> BodyState {
         let y = &y[..Self::LEN];
         BodyState {
@@ -295,7 +301,8 @@ impl Wrench {
     }
 }
 
-/// Writes the 13 time derivatives of `state` into `out[..13]` (same layout as
+/// Writes the [`BodyState::LEN`] time derivatives of `state` into
+/// `out[..BodyState::LEN]` (same layout as
 /// [`BodyState::write_to`]): ṙ = v, q̇ = ½ q ⊗ (0, ω), v̇ = F/m + g,
 /// ω̇ = J⁻¹ (Rᵀ M − ω × J ω) (module docs; Nikravesh 1988, Shabana 2005).
 ///
@@ -304,7 +311,7 @@ impl Wrench {
 /// singular inertia gives NaN angular accelerations.
 ///
 /// # Panics
-/// If `out.len() < 13`.
+/// If `out.len() < BodyState::LEN`.
 pub fn derivatives(
     body: &RigidBody,
     state: &BodyState,
@@ -332,7 +339,7 @@ pub fn derivatives(
     out[0..3].copy_from_slice(state.velocity_m_s.as_slice());
     out[3..7].copy_from_slice(&[q_dot_w, q_dot_v.x, q_dot_v.y, q_dot_v.z]);
     out[7..10].copy_from_slice(accel.as_slice());
-    out[10..13].copy_from_slice(alpha.as_slice());
+    out[10..BodyState::LEN].copy_from_slice(alpha.as_slice());
 }
 
 #[cfg(test)]
@@ -439,7 +446,7 @@ mod tests {
             angular_velocity_rad_s: w,
             ..BodyState::at_rest(Vector3::zeros(), q0)
         };
-        let mut d = [0.0; 13];
+        let mut d = [0.0; BodyState::LEN];
         derivatives(&b, &s, &Wrench::zero(), &Vector3::zeros(), &mut d);
         let h = 1e-5;
         let at = |t: f64| (q0 * UnitQuaternion::from_scaled_axis(w * t)).into_inner();
@@ -467,7 +474,7 @@ mod tests {
         );
         assert!((wr.moment_nm - Vector3::new(0.0, -5.0, 0.0)).norm() < 1e-14);
         let g = Vector3::new(0.0, 0.0, -9.81);
-        let mut d = [0.0; 13];
+        let mut d = [0.0; BodyState::LEN];
         derivatives(&b, &s, &wr, &g, &mut d);
         assert!((d[9] - (10.0 / 2.0 - 9.81)).abs() < 1e-14);
         // After a 90° yaw body x is global y, so the global moment −5 ŷ is

@@ -8,6 +8,8 @@
 //! its rail for y > 0); Δr = r_left − r_right; profile coordinates are those
 //! of the profile files (before mirroring for the left side), in metres.
 
+use crate::track::grid::{UniformGrid, lerp, within};
+
 /// One zone (tread or flange) of one wheel in one table row. Absent zones
 /// (no candidate) are `None`.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -228,22 +230,29 @@ impl ContactTable {
             .collect()
     }
 
-    /// Interval and fraction of `y_m` in the lateral grid.
+    /// Interval and fraction of `y_m` in the lateral grid
+    /// ([`crate::track::grid`]; the interval is that of a search of the
+    /// grid, O(1) on the uniform grids the pre-processor writes). Outside
+    /// the grid (no slack) or NaN: out of range; fewer than 2 shifts or
+    /// shifts that do not increase: malformed.
     fn locate_y(&self, y_m: f64) -> Result<(usize, f64), ContactTableError> {
-        let (lo, hi) = (self.y_m[0], self.y_m[self.y_m.len() - 1]);
-        if !(y_m >= lo && y_m <= hi) {
+        let n = self.y_m.len();
+        let (Some(&lo), Some(&hi)) = (self.y_m.first(), self.y_m.last()) else {
+            return Err(ContactTableError::Malformed("no lateral shifts".into()));
+        };
+        let grid = UniformGrid::spanning(lo, hi, n).ok_or_else(|| {
+            ContactTableError::Malformed(format!(
+                "{n} lateral shifts from {lo} to {hi} m: needs at least 2, increasing"
+            ))
+        })?;
+        if !within(y_m, lo, hi, 0.0) {
             return Err(ContactTableError::OutOfRange {
                 y_m,
                 min_m: lo,
                 max_m: hi,
             });
         }
-        let k = self
-            .y_m
-            .partition_point(|&v| v <= y_m)
-            .clamp(1, self.y_m.len() - 1);
-        let (a, b) = (self.y_m[k - 1], self.y_m[k]);
-        Ok((k - 1, (y_m - a) / (b - a)))
+        Ok(grid.locate(y_m, |k| self.y_m[k]))
     }
 
     /// Height, roll and Δr at lateral shift `y_m` and zero yaw, by linear
@@ -252,7 +261,7 @@ impl ContactTable {
         let (i, f) = self.locate_y(y_m)?;
         let j = self.zero_yaw_index();
         let (a, b) = (self.row(i, j), self.row(i + 1, j));
-        let l = |x: f64, y: f64| x + f * (y - x);
+        let l = |x, y| lerp(f, x, y);
         Ok((
             l(a.height_m, b.height_m),
             l(a.roll_rad, b.roll_rad),
@@ -277,7 +286,74 @@ impl ContactTable {
             return Ok(None);
         };
         let (va, vb) = (a.to_values(), b.to_values());
-        let v: Vec<f64> = va.iter().zip(&vb).map(|(x, y)| x + f * (y - x)).collect();
+        let v: Vec<f64> = va.iter().zip(&vb).map(|(&x, &y)| lerp(f, x, y)).collect();
         Ok(ZoneEntry::from_values(&v))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Height 0.4 + y, roll 2y, Δr 3y on y = −0.01 … 0.01 every 1 mm.
+    fn table(n: usize) -> ContactTable {
+        let y_m: Vec<f64> = (0..n).map(|i| -0.01 + 1e-3 * i as f64).collect();
+        let rows = y_m
+            .iter()
+            .map(|&y| ContactTableRow {
+                y_m: y,
+                height_m: 0.4 + y,
+                roll_rad: 2.0 * y,
+                delta_r_m: 3.0 * y,
+                ..Default::default()
+            })
+            .collect();
+        ContactTable {
+            meta: ContactTableMeta::default(),
+            y_m,
+            yaw_rad: vec![0.0],
+            rows,
+            conicity: ConicityTable::default(),
+        }
+    }
+
+    #[test]
+    fn lookups_interpolate_inside_and_refuse_outside_the_grid() {
+        let t = table(21);
+        t.validate().unwrap();
+        for y in [-0.01, -0.0042, 0.0, 0.003, 0.01] {
+            let (h, r, d) = t.wheelset_at(y).unwrap();
+            assert!((h - (0.4 + y)).abs() < 1e-15, "{y}");
+            assert!((r - 2.0 * y).abs() < 1e-15 && (d - 3.0 * y).abs() < 1e-15);
+        }
+        for y in [-0.0100001, 0.0100001, f64::NAN, f64::INFINITY] {
+            assert!(
+                matches!(
+                    t.wheelset_at(y),
+                    Err(ContactTableError::OutOfRange { min_m, max_m, .. })
+                        if min_m == -0.01 && (max_m - 0.01).abs() < 1e-15
+                ),
+                "{y}"
+            );
+        }
+        assert!(t.zone_at(0.02, 0, 0).is_err());
+        assert_eq!(t.zone_at(0.0, 0, 0), Ok(None));
+    }
+
+    #[test]
+    fn too_short_or_decreasing_grids_are_malformed_not_a_panic() {
+        for n in [0, 1] {
+            let t = table(n);
+            assert!(matches!(
+                t.wheelset_at(-0.01),
+                Err(ContactTableError::Malformed(_))
+            ));
+        }
+        let mut t = table(5);
+        t.y_m.reverse();
+        assert!(matches!(
+            t.wheelset_at(0.0),
+            Err(ContactTableError::Malformed(_))
+        ));
     }
 }

@@ -37,6 +37,8 @@
 //! that model the wheelset has derailed, and [`ImportedContactTable::row_at`]
 //! says so, naming the range.
 
+use crate::track::grid::{UniformGrid, lerp, within};
+
 /// Names of the columns of [`ImportedRow::to_values`] after `y` (the HDF5
 /// schema writes `y` first, then these).
 pub const ROW_COLUMNS: [&str; 11] = [
@@ -129,7 +131,7 @@ impl ImportedRow {
         let (a, b) = (self.to_values(), other.to_values());
         let mut v = [0.0; 11];
         for (k, out) in v.iter_mut().enumerate() {
-            *out = a[k] + w * (b[k] - a[k]);
+            *out = lerp(w, a[k], b[k]);
         }
         ImportedRow::from_values(&v)
     }
@@ -291,16 +293,19 @@ impl ImportedContactTable {
                 rule: format!("{} rows for {n} lateral displacements", self.rows.len()),
             });
         }
-        let h = self.step_m();
+        let grid = UniformGrid::spanning(lo, hi, n).ok_or_else(|| ImportedTableError::Invalid {
+            row: None,
+            rule: "y must increase".into(),
+        })?;
         // A hair of slack at the ends: y_m[n − 1] computed from the grid
         // may differ from the stored one by round-off.
-        let slack = GRID_TOLERANCE * h;
-        if y_m.is_nan() || y_m < lo - slack || y_m > hi + slack {
+        let slack = GRID_TOLERANCE * grid.step();
+        if !within(y_m, lo, hi, slack) {
             return Err(out_of_range());
         }
-        let x = ((y_m - lo) / h).clamp(0.0, (n - 1) as f64);
-        let i = (x.floor() as usize).min(n - 2);
-        let w = x - i as f64;
+        // The row index from the grid formula, clamped (the stored y only
+        // approximate y0 + i·h: `GRID_TOLERANCE`).
+        let (i, w) = grid.cell(y_m);
         Ok(self.rows[i].lerp(&self.rows[i + 1], w))
     }
 
@@ -372,6 +377,16 @@ mod tests {
         assert!(msg.contains("-10.000 … 10.000 mm"), "{msg}");
         assert!(msg.contains("derailed"), "{msg}");
         assert!(t.row_at(f64::NAN).is_err());
+        assert!(t.row_at(f64::INFINITY).is_err());
+        // Within the hair of slack at the ends: the end rows.
+        assert_eq!(t.row_at(0.01 + 1e-10).unwrap(), t.row_at(0.01).unwrap());
+        // A table whose y do not increase is refused, not interpolated.
+        let mut t = table();
+        t.y_m.reverse();
+        assert!(matches!(
+            t.row_at(0.0),
+            Err(ImportedTableError::Invalid { row: None, .. })
+        ));
     }
 
     #[test]

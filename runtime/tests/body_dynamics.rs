@@ -80,7 +80,7 @@ fn constant_omega_rotates_as_exponential() {
         angular_velocity_rad_s: w,
         ..BodyState::at_rest(Vector3::zeros(), q0)
     };
-    let mut y = [0.0; 13];
+    let mut y = [0.0; BodyState::LEN];
     s0.write_to(&mut y);
     let mut f = free_body_rhs(body, Vector3::zeros());
     let h = 1e-3;
@@ -115,7 +115,7 @@ fn symmetric_top_error(h: f64, t_end: f64) -> (f64, f64) {
     // Euler's equations for I₁ = I₂: ω₃ constant and ω₁ + iω₂ rotates at
     // Ω = (I₃ − I₁)/I₁ ω₃ (e.g. Goldstein, Classical Mechanics, §5.6).
     let big_omega = (i3 - i1) / i1 * w0.z;
-    let mut y = [0.0; 13];
+    let mut y = [0.0; BodyState::LEN];
     s0.write_to(&mut y);
     let mut f = free_body_rhs(body, Vector3::zeros());
     let steps = (t_end / h).round() as usize;
@@ -161,7 +161,7 @@ fn dzhanibekov_flip_conserves_momentum_and_energy() {
         s0.angular_momentum_global(&body),
         s0.kinetic_energy_j(&body),
     );
-    let mut y = [0.0; 13];
+    let mut y = [0.0; BodyState::LEN];
     s0.write_to(&mut y);
     let mut f = free_body_rhs(body, Vector3::zeros());
     let h = 1e-3;
@@ -202,7 +202,7 @@ fn free_fall() {
         velocity_m_s: Vector3::new(3.0, 1.0, 4.0),
         angular_velocity_rad_s: Vector3::new(0.5, 1.0, -0.3),
     };
-    let mut y = [0.0; 13];
+    let mut y = [0.0; BodyState::LEN];
     s0.write_to(&mut y);
     let mut f = free_body_rhs(body, G);
     let h = 1e-2;
@@ -263,7 +263,7 @@ impl Hanging {
         )
     }
 
-    /// y = [body (13), ∫ P_diss dt (J)].
+    /// y = [body ([`BodyState::LEN`]), ∫ P_diss dt (J)].
     fn rhs(&self, y: &[f64], dy: &mut [f64]) {
         let s = BodyState::read_from(y);
         let f = self.spring.evaluate(&self.ground, &Anchor::from_body(&s));
@@ -276,7 +276,7 @@ impl Hanging {
             &s.position_m,
         );
         derivatives(&self.body, &s, &w, &G, dy);
-        dy[13] = self.spring.dissipated_power_w(&f.rate_m_s);
+        dy[BodyState::LEN] = self.spring.dissipated_power_w(&f.rate_m_s);
     }
 
     fn energy_j(&self, y: &[f64]) -> f64 {
@@ -300,7 +300,7 @@ fn oscillator_frequency() {
     let eq = s0.position_m;
     let x0 = Vector3::new(0.01, -0.005, 0.02);
     s0.position_m += x0;
-    let mut y = [0.0; 14];
+    let mut y = [0.0; BodyState::LEN + 1];
     s0.write_to(&mut y);
     let h = 5e-5;
     let w: Vec<f64> = k.iter().map(|ki| (ki / m).sqrt()).collect();
@@ -341,7 +341,7 @@ fn damped_oscillator_decay() {
     let eq = s0.position_m;
     let x0 = Vector3::new(0.01, -0.005, 0.02);
     s0.position_m += x0;
-    let mut y = [0.0; 14];
+    let mut y = [0.0; BodyState::LEN + 1];
     s0.write_to(&mut y);
     let e0 = sys.energy_j(&y);
     let h = 1e-4;
@@ -358,11 +358,11 @@ fn damped_oscillator_decay() {
                 * (x0[i] * (wd * t).cos() + zeta * w * x0[i] / wd * (wd * t).sin());
             max_err = max_err.max((x[i] - exact).abs() / x0.amax());
         }
-        max_balance = max_balance.max((e0 - sys.energy_j(&y) - y[13]).abs() / e0);
+        max_balance = max_balance.max((e0 - sys.energy_j(&y) - y[BodyState::LEN]).abs() / e0);
     }
     println!(
         "damped oscillator: max trajectory error / x₀ {max_err:.2e}; energy balance error / E₀ {max_balance:.2e} (E lost {:.3} of E₀)",
-        y[13] / e0
+        y[BodyState::LEN] / e0
     );
     assert!(max_err < 1e-9);
     assert!(max_balance < 1e-9);
@@ -394,29 +394,29 @@ fn two_free_bodies_reduced_mass() {
     )
     .expect("valid element");
     let x0 = 0.01;
-    let mut y = [0.0; 26];
-    s1.write_to(&mut y[..13]);
+    let mut y = [0.0; 2 * BodyState::LEN];
+    s1.write_to(&mut y[..BodyState::LEN]);
     BodyState {
         position_m: s2.position_m + Vector3::new(x0, 0.0, 0.0),
         velocity_m_s: Vector3::new(0.0, 0.0, 0.3), // drifts the pair, p = 210 N·s
         ..s2
     }
-    .write_to(&mut y[13..]);
+    .write_to(&mut y[BodyState::LEN..]);
     let momentum = |y: &[f64]| {
-        b1.mass_kg * BodyState::read_from(&y[..13]).velocity_m_s
-            + b2.mass_kg * BodyState::read_from(&y[13..]).velocity_m_s
+        b1.mass_kg * BodyState::read_from(&y[..BodyState::LEN]).velocity_m_s
+            + b2.mass_kg * BodyState::read_from(&y[BodyState::LEN..]).velocity_m_s
     };
     let p0 = momentum(&y);
     let mut rhs = |y: &[f64], dy: &mut [f64]| {
         let (a, b) = (
-            BodyState::read_from(&y[..13]),
-            BodyState::read_from(&y[13..]),
+            BodyState::read_from(&y[..BodyState::LEN]),
+            BodyState::read_from(&y[BodyState::LEN..]),
         );
         let f = spring.evaluate(&Anchor::from_body(&a), &Anchor::from_body(&b));
         let (mut wa, mut wb) = (Wrench::zero(), Wrench::zero());
         f.add_to_wrenches(&mut wa, &a.position_m, &mut wb, &b.position_m);
-        derivatives(&b1, &a, &wa, &Vector3::zeros(), &mut dy[..13]);
-        derivatives(&b2, &b, &wb, &Vector3::zeros(), &mut dy[13..]);
+        derivatives(&b1, &a, &wa, &Vector3::zeros(), &mut dy[..BodyState::LEN]);
+        derivatives(&b2, &b, &wb, &Vector3::zeros(), &mut dy[BodyState::LEN..]);
     };
     let mu = b1.mass_kg * b2.mass_kg / (b1.mass_kg + b2.mass_kg);
     let w = (k / mu).sqrt();
@@ -425,8 +425,8 @@ fn two_free_bodies_reduced_mass() {
     for step in 1..=20_000 {
         rk4_step(&mut rhs, &mut y, h);
         let t = step as f64 * h;
-        let sep = BodyState::read_from(&y[13..]).position_m.x
-            - BodyState::read_from(&y[..13]).position_m.x;
+        let sep = BodyState::read_from(&y[BodyState::LEN..]).position_m.x
+            - BodyState::read_from(&y[..BodyState::LEN]).position_m.x;
         max_err = max_err.max((sep - 1.0 - x0 * (w * t).cos()).abs() / x0);
         max_dp = max_dp.max((momentum(&y) - p0).norm());
     }
@@ -448,7 +448,7 @@ fn spring_pendulum_conserves_energy() {
     s0.orientation = UnitQuaternion::from_scaled_axis(Vector3::new(0.1, -0.05, 0.2));
     s0.velocity_m_s = Vector3::new(0.1, 0.2, -0.1);
     s0.angular_velocity_rad_s = Vector3::new(0.5, -0.3, 1.0);
-    let mut y = [0.0; 14];
+    let mut y = [0.0; BodyState::LEN + 1];
     s0.write_to(&mut y);
     let e0 = sys.energy_j(&y);
     let ke0 = s0.kinetic_energy_j(&sys.body);
@@ -478,14 +478,14 @@ fn damped_pendulum_energy_balance() {
     );
     s0.position_m += Vector3::new(0.03, -0.02, 0.01);
     s0.angular_velocity_rad_s = Vector3::new(0.5, -0.3, 1.0);
-    let mut y = [0.0; 14];
+    let mut y = [0.0; BodyState::LEN + 1];
     s0.write_to(&mut y);
     let e0 = sys.energy_j(&y);
     let h = 1e-4;
     let mut max_bal = 0.0f64;
     for _ in 0..50_000 {
         rk4_step(&mut |y, dy| sys.rhs(y, dy), &mut y, h);
-        max_bal = max_bal.max((e0 - sys.energy_j(&y) - y[13]).abs());
+        max_bal = max_bal.max((e0 - sys.energy_j(&y) - y[BodyState::LEN]).abs());
     }
     let lost = e0 - sys.energy_j(&y);
     println!(

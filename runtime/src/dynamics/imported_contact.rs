@@ -90,7 +90,8 @@ use std::sync::{Arc, OnceLock};
 
 use nalgebra::Vector3;
 
-use super::track_motion::track_rotation;
+use super::contact_source::{ContactContext, ContactSource};
+use super::track_motion::{TrackRelative, track_rotation};
 use crate::contact::quasi_static::Settled;
 use crate::contact::{
     Candidate, ContactError, Curvatures, SolveMethod, SurfaceParams, WheelsetContacts, WheelsetPose,
@@ -104,6 +105,7 @@ use crate::hertz::{HertzContact, HertzError, HertzShape};
 use crate::imported_contact::{ImportedContactTable, ImportedRow, ImportedTableError};
 use crate::normal::{ContactMemory, NormalForce};
 use crate::profile::{MAX_SEGMENTS, Zone};
+use crate::track::grid::within;
 use crate::track::{Side, TrackError, TrackTables};
 
 /// The imported-table contact method of a run (module docs).
@@ -158,6 +160,80 @@ impl ImportedContactMethod {
     }
 }
 
+/// The [`ContactSource`] of a wheelset with an imported table (module
+/// docs): seated by [`settle_imported`], one contact per wheel from the
+/// rows at its lateral displacement ([`imported_contacts`]), forces by
+/// [`imported_force`] from those rows (kept from the last
+/// [`ContactSource::contacts`]). Neither profiles nor the contact solver
+/// are used, nor the hysteresis memory (that model has no damping).
+#[derive(Debug, Clone)]
+pub struct ImportedContact {
+    table: Arc<ImportedContactTable>,
+    /// Shear modulus G of the creep forces (Pa),
+    /// [`ImportedContactMethod::shear_modulus_pa`].
+    shear_modulus_pa: f64,
+    /// The rows `[left, right]` of the last contacts.
+    rows: Option<[ImportedRow; 2]>,
+}
+
+impl ImportedContact {
+    pub fn new(table: Arc<ImportedContactTable>, shear_modulus_pa: f64) -> Self {
+        ImportedContact {
+            table,
+            shear_modulus_pa,
+            rows: None,
+        }
+    }
+}
+
+impl ContactSource for ImportedContact {
+    fn settle(
+        &mut self,
+        ctx: ContactContext<'_>,
+        _forces: &ContactForceSettings,
+        s_m: f64,
+        y_m: f64,
+        yaw_rad: f64,
+    ) -> Result<Settled, ContactError> {
+        let load = ctx.wheelset.static_wheel_load_n;
+        settle_imported(ctx.track, &self.table, s_m, y_m, yaw_rad, load)
+    }
+
+    fn contacts(
+        &mut self,
+        ctx: ContactContext<'_>,
+        pose: &WheelsetPose,
+        relative: &TrackRelative,
+    ) -> Result<WheelsetContacts, ContactError> {
+        let (contacts, rows) = imported_contacts(ctx.track, pose, relative.lateral_m, &self.table)?;
+        self.rows = Some(rows);
+        Ok(contacts)
+    }
+
+    fn force(
+        &self,
+        forces: &ContactForceSettings,
+        c: &Candidate,
+        _memory: &ContactMemory,
+        motion: &WheelsetMotion,
+    ) -> Result<Option<ContactForce>, ContactForceError> {
+        let Some(rows) = &self.rows else {
+            return Err(ContactForceError::InvalidSetting {
+                setting: "imported contact",
+                value: f64::NAN,
+                rule: "a force needs the rows of a contact search first",
+            });
+        };
+        imported_force(
+            forces,
+            self.shear_modulus_pa,
+            &rows[side_index(c.side)],
+            c,
+            motion,
+        )
+    }
+}
+
 fn sigma(side: Side) -> f64 {
     match side {
         Side::Left => 1.0,
@@ -202,7 +278,7 @@ pub fn wheel_rows(
     y_m: f64,
 ) -> Result<[ImportedRow; 2], ContactError> {
     let (lo, hi) = table.wheelset_range_m();
-    if y_m.is_nan() || y_m < lo || y_m > hi {
+    if !within(y_m, lo, hi, 0.0) {
         return Err(table_error(
             ImportedTableError::OutOfRange {
                 y_mm: y_m * 1e3,
@@ -582,6 +658,101 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("derailed") && e.contains("0.01"), "{e}");
+    }
+
+    #[test]
+    fn the_source_gives_the_functions_settling_contacts_and_forces() {
+        use crate::body::RigidBody;
+        use crate::contact::{ContactOptions, ContactSolver, WheelsetContactModel};
+        use crate::dynamics::track_motion::TrackRelative;
+        use crate::dynamics::{ContactContext, ContactSource, WheelsetSpec};
+        use crate::profile::{RailPlacement, RailProfileOptions, WheelProfileOptions};
+        use crate::profile_import::{ImportOptions, load_rail, load_wheel};
+        let track = straight_track(100.0, 0.1, 1.435, 1.507, 0.0);
+        let t = table();
+        let g = 1.4384e11;
+        let settings = ContactForceSettings {
+            creep_law: CreepLaw::Heuristic,
+            ..Default::default()
+        };
+        // The wheelset's profiles and solver are not used, but a wheelset
+        // has them.
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tables/profiles");
+        let wheel = load_wheel(
+            &dir.join("MBench_S1002_v3.prw"),
+            &ImportOptions::default(),
+            WheelProfileOptions::default(),
+        )
+        .unwrap();
+        let rail = load_rail(
+            &dir.join("MBench_UIC60_v3.prr"),
+            &ImportOptions::default(),
+            RailProfileOptions::default(),
+        )
+        .unwrap();
+        let placement = RailPlacement {
+            gauge_m: 1.435,
+            rail_spacing_m: 1.507,
+            inclination_rad: 0.0,
+        };
+        let load = 66_602.3;
+        let w = WheelsetSpec {
+            name: "ws".into(),
+            body: RigidBody {
+                mass_kg: 1000.0,
+                inertia_kg_m2: nalgebra::Matrix3::identity(),
+            },
+            contact: WheelsetContactModel::new(wheel.clone(), wheel, 1.36, &rail, &rail, placement)
+                .unwrap(),
+            x_m: 0.0,
+            y_m: 0.0,
+            nominal_radius_m: 0.425,
+            static_wheel_load_n: load,
+        };
+        let mut solver = ContactSolver::new(ContactOptions::default());
+        let mut source = ImportedContact::new(Arc::new(t.clone()), g);
+        let y = 0.003;
+        let expected = settle_imported(&track, &t, 50.0, y, 0.001, load).unwrap();
+        macro_rules! ctx {
+            () => {
+                ContactContext {
+                    track: &track,
+                    wheelset: &w,
+                    solver: &mut solver,
+                }
+            };
+        }
+        // The same values, bit for bit (their curvatures are NaN, hence
+        // the comparison of the printed values).
+        let same = |a: &dyn std::fmt::Debug, b: &dyn std::fmt::Debug| {
+            assert_eq!(format!("{a:?}"), format!("{b:?}"))
+        };
+        let settled = source.settle(ctx!(), &settings, 50.0, y, 0.001).unwrap();
+        same(&settled, &expected);
+        let relative = TrackRelative {
+            lateral_m: y,
+            ..Default::default()
+        };
+        let c = settled.contacts.candidates[1][0].unwrap();
+        let motion = WheelsetMotion {
+            centre_m: settled.pose.position,
+            velocity_m_s: Vector3::new(30.0, 0.1, 0.0),
+            angular_velocity_rad_s: settled.pose.frame.column(1) * (30.0 / 0.425),
+            forward_speed_m_s: 30.0,
+        };
+        let memory = ContactMemory::not_in_contact();
+        // No rows before a contact search: an error, not a guess.
+        assert!(source.force(&settings, &c, &memory, &motion).is_err());
+        let contacts = source.contacts(ctx!(), &settled.pose, &relative).unwrap();
+        let (direct, rows) = imported_contacts(&track, &settled.pose, y, &t).unwrap();
+        same(&contacts, &direct);
+        for (k, row) in rows.iter().enumerate() {
+            let c = contacts.candidates[k][0].unwrap();
+            let f = source.force(&settings, &c, &memory, &motion).unwrap();
+            assert!(f.is_some());
+            same(&f, &imported_force(&settings, g, row, &c, &motion).unwrap());
+        }
+        assert_eq!(solver.stats.solves, 0);
     }
 
     #[test]

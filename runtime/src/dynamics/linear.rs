@@ -177,7 +177,7 @@ fn full_state(base: &Base, layout: &Layout, x: &DVector<f64>) -> Vec<f64> {
     }
     for k in 0..n_bodies {
         let r = base.frames[k];
-        let st0 = BodyState::read_from(&base.y0[13 * k..13 * k + 13]);
+        let st0 = BodyState::read_from(&base.y0[BodyState::slot(k)]);
         let dpos = r * Vector3::from(d[k][0]);
         let dtheta = r * Vector3::from(d[k][1]);
         let dvel = r * Vector3::from(d[k][2]);
@@ -201,7 +201,7 @@ fn full_state(base: &Base, layout: &Layout, x: &DVector<f64>) -> Vec<f64> {
             velocity_m_s: st0.velocity_m_s + dvel,
             angular_velocity_rad_s: orientation.inverse_transform_vector(&omega),
         };
-        st.write_to(&mut y[13 * k..13 * k + 13]);
+        st.write_to(&mut y[BodyState::slot(k)]);
     }
     y
 }
@@ -231,9 +231,10 @@ fn reduced_rhs(
     for (i, (k, kind)) in layout.states.iter().enumerate() {
         let k = *k;
         let r = base.frames[k];
-        let st = BodyState::read_from(&y[13 * k..13 * k + 13]);
-        let vdot = Vector3::new(dy[13 * k + 7], dy[13 * k + 8], dy[13 * k + 9]);
-        let wdot_body = Vector3::new(dy[13 * k + 10], dy[13 * k + 11], dy[13 * k + 12]);
+        let st = BodyState::read_from(&y[BodyState::slot(k)]);
+        let d = &dy[BodyState::slot(k)];
+        let vdot = Vector3::new(d[7], d[8], d[9]);
+        let wdot_body = Vector3::new(d[10], d[11], d[12]);
         // ω̇ (global) = R ω̇_b + ω × (R ω_b) = R ω̇_b.
         let wdot = st.orientation * wdot_body;
         out[i] = match kind {
@@ -249,7 +250,7 @@ fn reduced_rhs(
             Kind::Angle(a) => rates[k][*a],
             Kind::Velocity(a) => (r.transpose() * vdot)[*a],
             Kind::Rate(_) | Kind::Spin if k < base.n_ws => {
-                let st0 = BodyState::read_from(&base.y0[13 * k..13 * k + 13]);
+                let st0 = BodyState::read_from(&base.y0[BodyState::slot(k)]);
                 let eta0 = st0.rotation().column(1).into_owned();
                 let spin0 = st0.angular_velocity_global().dot(&eta0);
                 let eta = st.rotation().column(1).into_owned();
@@ -279,8 +280,8 @@ pub fn linearise(
     let track = system.track();
     let n_ws = system.vehicle().wheelsets.len();
     let mut frames = Vec::new();
-    for k in 0..y0.len() / 13 {
-        let st = BodyState::read_from(&y0[13 * k..13 * k + 13]);
+    for k in 0..y0.len() / BodyState::LEN {
+        let st = BodyState::read_from(&y0[BodyState::slot(k)]);
         let s = super::track_motion::project_s(&track.centerline, &st.position_m, 0.0).map_err(
             |source| DynamicsError::Track {
                 what: "linearisation".into(),

@@ -19,16 +19,77 @@
 //! table's rows hold the roll settled for equal shifts); the online contact
 //! is the reference.
 
+use std::sync::Arc;
+
+use super::contact_source::{ContactContext, ContactSource, settle_on_profiles};
 use super::track_motion::TrackRelative;
+use crate::contact::quasi_static::Settled;
 use crate::contact::{
-    ContactError, SurfaceParams, WheelsetContactModel, WheelsetContacts, WheelsetPose,
+    Candidate, ContactError, SurfaceParams, WheelsetContactModel, WheelsetContacts, WheelsetPose,
+};
+use crate::contact_force::{
+    ContactForce, ContactForceError, ContactForceSettings, WheelsetMotion, evaluate_contact,
 };
 use crate::contact_table::{ContactTable, ContactTableError};
+use crate::normal::ContactMemory;
 use crate::profile::Zone;
 use crate::track::{Side, TrackError, TrackTables};
 
 /// Tolerance when matching a table point to a piece of the wheel (m).
 const PIECE_TOL_M: f64 = 1e-4;
+
+/// The [`ContactSource`] of a wheelset with a contact lookup table
+/// (module docs): settled on its profiles as online, contact points from
+/// the table, forces as online (Hertz with hysteresis, the run's creep
+/// law).
+#[derive(Debug, Clone)]
+pub struct TableContact {
+    table: Arc<ContactTable>,
+}
+
+impl TableContact {
+    pub fn new(table: Arc<ContactTable>) -> Self {
+        TableContact { table }
+    }
+}
+
+impl ContactSource for TableContact {
+    fn settle(
+        &mut self,
+        ctx: ContactContext<'_>,
+        forces: &ContactForceSettings,
+        s_m: f64,
+        y_m: f64,
+        yaw_rad: f64,
+    ) -> Result<Settled, ContactError> {
+        settle_on_profiles(ctx, forces, s_m, y_m, yaw_rad)
+    }
+
+    fn contacts(
+        &mut self,
+        ctx: ContactContext<'_>,
+        pose: &WheelsetPose,
+        relative: &TrackRelative,
+    ) -> Result<WheelsetContacts, ContactError> {
+        table_contacts(
+            &ctx.wheelset.contact,
+            ctx.track,
+            pose,
+            relative,
+            &self.table,
+        )
+    }
+
+    fn force(
+        &self,
+        forces: &ContactForceSettings,
+        c: &Candidate,
+        memory: &ContactMemory,
+        motion: &WheelsetMotion,
+    ) -> Result<Option<ContactForce>, ContactForceError> {
+        evaluate_contact(forces, c, memory, motion)
+    }
+}
 
 /// The wheelset's candidates from `table` at its track-relative position.
 pub fn table_contacts(

@@ -8,7 +8,7 @@
 
 use nalgebra::Vector3;
 
-use crate::body::RigidBody;
+use crate::body::{BodyState, RigidBody};
 use crate::contact::WheelsetContactModel;
 
 /// What an element end is attached to.
@@ -97,8 +97,9 @@ impl VehicleModel {
             + self.bodies.iter().map(|b| b.body.mass_kg).sum::<f64>()
     }
 
-    /// Number of state variables (13 per wheelset and free body).
+    /// Number of state variables ([`BodyState::LEN`] per wheelset and free
+    /// body).
     pub fn state_len(&self) -> usize {
-        13 * (self.wheelsets.len() + self.bodies.len())
+        BodyState::LEN * (self.wheelsets.len() + self.bodies.len())
     }
 }

@@ -5,7 +5,7 @@
 
 use nalgebra::Vector3;
 
-use super::grid::{UniformGrid, check_rows, lerp3};
+use super::grid::{UniformGrid, check_rows, lerp, lerp3, within};
 use super::{Frame, Side, TrackError};
 
 /// Column names of the centreline database, in file order.
@@ -208,7 +208,7 @@ impl CenterlineTable {
     #[inline]
     fn locate(&self, s_m: f64) -> Result<(usize, f64), TrackError> {
         let (lo, hi) = self.range_m();
-        if !(s_m >= lo - 1e-9 && s_m <= hi + 1e-9) {
+        if !within(s_m, lo, hi, 1e-9) {
             return Err(TrackError::OutOfRange {
                 table: "centerline",
                 coordinate: "s",
@@ -217,9 +217,7 @@ impl CenterlineTable {
                 max_m: hi,
             });
         }
-        let i = self.grid.interval(s_m, |k| self.rows[k].s_m);
-        let (a, b) = (self.rows[i].s_m, self.rows[i + 1].s_m);
-        Ok((i, (s_m - a) / (b - a)))
+        Ok(self.grid.locate(s_m, |k| self.rows[k].s_m))
     }
 
     /// Centreline point at track distance `s_m` (linear interpolation, O(1)).
@@ -227,7 +225,7 @@ impl CenterlineTable {
         let (i, f) = self.locate(s_m)?;
         let (r0, r1) = (&self.rows[i], &self.rows[i + 1]);
         let lerp3 = |a, b| lerp3(f, a, b);
-        let lerp = |a: f64, b: f64| a + f * (b - a);
+        let lerp = |a, b| lerp(f, a, b);
         Ok(CenterlinePoint {
             s_m,
             position: lerp3(&r0.position, &r1.position),
@@ -245,8 +243,11 @@ impl CenterlineTable {
     #[inline]
     pub fn rail_l(&self, side: Side, s_m: f64) -> Result<f64, TrackError> {
         let (i, f) = self.locate(s_m)?;
-        let (a, b) = (self.rows[i].rail_l_m(side), self.rows[i + 1].rail_l_m(side));
-        Ok(a + f * (b - a))
+        Ok(lerp(
+            f,
+            self.rows[i].rail_l_m(side),
+            self.rows[i + 1].rail_l_m(side),
+        ))
     }
 
     /// Centreline distance at arc length `l_m` of rail `side` (m): the inverse

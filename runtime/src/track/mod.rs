@@ -4,7 +4,7 @@
 
 mod centerline_table;
 mod frame;
-mod grid;
+pub(crate) mod grid;
 mod rail_table;
 mod straight;
 

@@ -5,7 +5,7 @@
 
 use nalgebra::Vector3;
 
-use super::grid::{UniformGrid, check_rows, lerp3};
+use super::grid::{UniformGrid, check_rows, lerp3, within};
 use super::{Frame, Side, TrackError};
 
 /// Column names of a rail database, in file order (SPEC §3g).
@@ -119,7 +119,7 @@ impl RailTable {
     #[inline]
     pub fn at(&self, l_m: f64) -> Result<RailPoint, TrackError> {
         let (lo, hi) = self.range_m();
-        if !(l_m >= lo - 1e-9 && l_m <= hi + 1e-9) {
+        if !within(l_m, lo, hi, 1e-9) {
             return Err(TrackError::OutOfRange {
                 table: self.side.rail_name(),
                 coordinate: "L",
@@ -128,9 +128,8 @@ impl RailTable {
                 max_m: hi,
             });
         }
-        let i = self.grid.interval(l_m, |k| self.rows[k].l_m);
+        let (i, f) = self.grid.locate(l_m, |k| self.rows[k].l_m);
         let (r0, r1) = (&self.rows[i], &self.rows[i + 1]);
-        let f = (l_m - r0.l_m) / (r1.l_m - r0.l_m);
         let lerp = |a, b| lerp3(f, a, b);
         Ok(RailPoint {
             l_m,
