@@ -10,6 +10,7 @@
 
 pub mod profile;
 pub mod quadrature;
+pub mod results;
 pub mod schema;
 pub mod spline;
 pub mod track;

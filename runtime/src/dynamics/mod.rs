@@ -9,7 +9,7 @@
 //!   [`crate::integrator`] (the paper's per-step algorithm);
 //! - [`table_contact`]: contact from the lookup table instead of Newton;
 //! - [`imported_contact`]: contact from a table computed by another code;
-//! - [`recorder`]: sampled outputs into [`crate::schema::results::RunResults`];
+//! - [`recorder`]: sampled outputs into [`crate::results::RunResults`];
 //! - [`linear`]: linearisation around the centred run, modes, hunting.
 //!
 //! State: 13 variables per wheelset and free body (position, unit
