@@ -3,6 +3,10 @@
 //! converted to metres, with the metadata needed to convert them into the
 //! toolkit's wheel/rail conventions (done elsewhere, not here).
 //!
+//! Parsing text ([`parse_profile`], [`parse_profile_as`]) is pure and
+//! always available; reading files ([`read_profile`], [`load_wheel`],
+//! [`load_rail`]) is behind the `io` feature (on by default).
+//!
 //! # Formats
 //!
 //! | format | recognised by | units | z | lateral convention |
@@ -56,9 +60,11 @@
 //! so later checks can name it too ([`ProfileFile::error_at`]).
 
 mod columns;
+#[cfg(feature = "io")]
 mod load;
 mod simpack;
 
+#[cfg(feature = "io")]
 pub use load::{ProfileLoadError, load_rail, load_wheel};
 
 pub use simpack::SimpackSettings;
@@ -374,7 +380,9 @@ impl ProfileImportError {
 }
 
 /// Read the profile file `path` (format from its extension or content, see
-/// the module docs).
+/// the module docs). File access: behind the `io` feature; the parsing is
+/// [`parse_profile`].
+#[cfg(feature = "io")]
 pub fn read_profile(
     path: &Path,
     options: &ImportOptions,
