@@ -32,5 +32,7 @@ pub mod elliptic;
 pub mod hertz;
 pub mod imported_contact;
 pub mod integrator;
+#[cfg(feature = "io")]
+pub mod io;
 pub mod normal;
 pub mod profile_import;

@@ -32,14 +32,13 @@
 //! meaning of an existing column bumps [`SCHEMA_VERSION`].
 //!
 //! Files are written atomically: to a hidden temporary name in the target
-//! directory, renamed into place only when complete ([`AtomicFile`]).
+//! directory, renamed into place only when complete ([`crate::io::atomic`]).
 //!
 //! The same module writes and reads the simulation results file (its own
 //! schema, `railsim-results`, layout in `results_file`): [`write_results`],
 //! [`read_results`]. The results themselves are plain data in
 //! [`crate::results`].
 
-mod atomic;
 mod attrs;
 mod columns;
 mod contact_table;
@@ -47,7 +46,6 @@ mod imported;
 mod results_file;
 mod track;
 
-pub use atomic::AtomicFile;
 pub use imported::{read_imported_contact_table, write_imported_contact_table_file};
 pub use results_file::{
     RESULTS_SCHEMA, RESULTS_SCHEMA_VERSION, RESULTS_TOOL, read_results, write_results,

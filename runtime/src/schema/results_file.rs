@@ -107,8 +107,9 @@ use hdf5::types::VarLenUnicode;
 use hdf5::{IndexType, IterationOrder};
 
 use super::columns::to_vlu;
-use super::{AtomicFile, SchemaError, attrs};
+use super::{SchemaError, attrs};
 use crate::contact::nadal::NadalLimit;
+use crate::io::AtomicFile;
 use crate::results::{
     Column, Dataset, RESERVED_ATTRIBUTES, RunResults, TIME_S, Values, WHEEL_COLUMNS, WHEEL_GROUPS,
     WHEELSET_COLUMNS, WheelValues, WheelsetSample, WheelsetSeries, ZONE_COLUMNS, ZONE_GROUPS,

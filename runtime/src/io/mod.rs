@@ -1,0 +1,8 @@
+//! File input and output shared by the workspace's crates (behind the `io`
+//! feature): one atomic writer for every output file ([`atomic`]).
+
+pub mod atomic;
+
+pub use atomic::{
+    AtomicFile, AtomicWriteError, write_atomically, write_atomically_keeping_extension,
+};
