@@ -5,8 +5,9 @@
 //! modules of the `io` feature (on by default) touch files: [`schema`]
 //! (the HDF5 table and results files, read and write, so the
 //! pre-processor's writer and the simulator's reader cannot drift apart)
-//! and the file readers of [`profile_import`] (`read_profile`,
-//! `load_wheel`, `load_rail`). Without `io` the crate builds without HDF5.
+//! [`io`] (the one atomic file writer, the one numeric table reader) and
+//! [`profile_import`] (profile files). Without `io` the crate builds
+//! without HDF5.
 //!
 //! Units: SI throughout (m, s, kg, N, rad). Global frame Z up; track frame
 //! `t` tangent, `n` lateral pointing left, `b = t × n` up (SPEC §1).
@@ -35,4 +36,5 @@ pub mod integrator;
 #[cfg(feature = "io")]
 pub mod io;
 pub mod normal;
+#[cfg(feature = "io")]
 pub mod profile_import;
