@@ -1,9 +1,14 @@
-//! A small, strict reader for the numeric CSV files of SPEC §2: a header row,
-//! then rows of numbers separated by commas; blank lines and lines starting
-//! with `#` are ignored; spaces around fields are allowed. Every error names
-//! the file and the line.
+//! The numeric CSV files of SPEC §2 (centreline, cant, irregularities): a
+//! header row, then rows of numbers separated by commas; blank lines and
+//! lines starting with `#` are ignored; spaces around fields are allowed.
+//! Read by the workspace's one table reader, [`runtime::io::csv`]; this
+//! module adds the pre-processor's rules (row counts, increasing columns,
+//! unit suffixes) and its error type. Every error names the file and the
+//! line.
 
 use std::path::{Path, PathBuf};
+
+use runtime::io::csv::{CsvError, Separator};
 
 use crate::error::InputError;
 
@@ -18,77 +23,20 @@ pub struct CsvTable {
     pub rows: Vec<(usize, Vec<f64>)>,
 }
 
+impl From<CsvError> for InputError {
+    fn from(e: CsvError) -> Self {
+        InputError::new(e.path(), e.line(), e.rule())
+    }
+}
+
 impl CsvTable {
     /// Parse `text` (the content of `path`).
     pub fn parse(path: &Path, text: &str) -> Result<Self, InputError> {
-        let err = |line: Option<usize>, rule: String| InputError::new(path, line, rule);
-        let mut lines = text
-            .lines()
-            .enumerate()
-            .map(|(i, l)| (i + 1, l.trim()))
-            .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
-
-        let (header_line, header) = lines
-            .next()
-            .ok_or_else(|| err(None, "the file is empty (expected a header row)".into()))?;
-        let columns: Vec<String> = header
-            .split(',')
-            .map(|c| c.trim().trim_matches('"').to_ascii_lowercase())
-            .collect();
-        for (i, c) in columns.iter().enumerate() {
-            if c.is_empty() {
-                return Err(err(
-                    Some(header_line),
-                    format!("header column {} has no name", i + 1),
-                ));
-            }
-            if c.parse::<f64>().is_ok() {
-                return Err(err(
-                    Some(header_line),
-                    format!("expected a header row naming the columns, found the number '{c}'"),
-                ));
-            }
-            if columns[..i].contains(c) {
-                return Err(err(
-                    Some(header_line),
-                    format!("column '{c}' appears twice"),
-                ));
-            }
-        }
-
-        let mut rows = Vec::new();
-        for (line, l) in lines {
-            let fields: Vec<&str> = l.split(',').map(str::trim).collect();
-            if fields.len() != columns.len() {
-                return Err(err(
-                    Some(line),
-                    format!(
-                        "expected {} values ({}), found {}",
-                        columns.len(),
-                        columns.join(", "),
-                        fields.len()
-                    ),
-                ));
-            }
-            let mut values = Vec::with_capacity(fields.len());
-            for (f, c) in fields.iter().zip(&columns) {
-                let v: f64 = f
-                    .parse()
-                    .map_err(|_| err(Some(line), format!("column '{c}': '{f}' is not a number")))?;
-                if !v.is_finite() {
-                    return Err(err(
-                        Some(line),
-                        format!("column '{c}': non-finite value '{f}'"),
-                    ));
-                }
-                values.push(v);
-            }
-            rows.push((line, values));
-        }
+        let t = runtime::io::csv::CsvTable::parse(path, text, Separator::Comma)?;
         Ok(Self {
-            path: path.to_path_buf(),
-            columns,
-            rows,
+            path: t.path,
+            columns: t.columns,
+            rows: t.rows,
         })
     }
 

@@ -22,18 +22,19 @@
 //! ([`PALETTE`]); series lines are 2 px wide.
 //!
 //! Images up to 8 Mpx are drawn at twice the size and box-filtered down, so
-//! lines and markers are anti-aliased. Files are written atomically: the
-//! PNG is encoded to a temporary file in the target directory, then renamed
-//! over the target; an error leaves nothing behind.
+//! lines and markers are anti-aliased. Files are written atomically
+//! ([`runtime::io::atomic`]): the PNG is encoded to a temporary file in the
+//! target directory, then renamed over the target; an error leaves nothing
+//! behind.
 
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
-use std::sync::atomic::{AtomicU64, Ordering};
 
 use plotters::coord::Shift;
 use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint, Ranged};
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
+use runtime::io::{AtomicWriteError, write_atomically_keeping_extension};
 
 /// The embedded font (DejaVu Sans 2.37, Bitstream Vera licence; see
 /// `preproc/assets/README.md`).
@@ -397,8 +398,7 @@ where
         path: path.to_path_buf(),
         message,
     };
-    let file_name = path
-        .file_name()
+    path.file_name()
         .ok_or_else(|| invalid("the path has no file name".into()))?;
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
@@ -416,31 +416,22 @@ where
     })?;
 
     // The bitmap backend picks the encoder from the extension: keep `.png`.
-    static COUNTER: AtomicU64 = AtomicU64::new(0);
-    let tmp = dir.join(format!(
-        ".{}.{}-{}.tmp.png",
-        file_name.to_string_lossy(),
-        std::process::id(),
-        COUNTER.fetch_add(1, Ordering::Relaxed)
-    ));
-    let saved = {
-        let mut file = BitMapBackend::new(&tmp, size);
+    let written = write_atomically_keeping_extension(path, |tmp| {
+        let mut file = BitMapBackend::new(tmp, size);
         let copied = file
             .blit_bitmap((0, 0), size, &rgb)
             .map_err(|e| e.to_string());
         // Save even if the copy failed (the backend would on drop anyway),
-        // so that the temporary file is surely there to be removed below.
+        // so that the temporary file is surely there to be removed.
         let encoded = file.present().map_err(|e| e.to_string());
-        copied.and(encoded).map_err(write_err)
-    };
-    let result = saved.and_then(|()| {
-        std::fs::rename(&tmp, path)
-            .map_err(|e| write_err(format!("rename from temporary file: {e}")))
+        copied.and(encoded)
     });
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
+    written.map_err(|e| match e {
+        AtomicWriteError::Write(message) => write_err(message),
+        AtomicWriteError::Commit { source, .. } => {
+            write_err(format!("rename from temporary file: {source}"))
+        }
+    })
 }
 
 // ---------------------------------------------------------------------------

@@ -29,10 +29,19 @@
 //! (`WheelSetComponent::find_rsgeodata`). The rows describe the left wheel
 //! (see [`runtime::imported_contact`]). Every rule broken is reported with
 //! the file, the line and the rule.
+//!
+//! Lines, fields and numbers are read by the workspace's one table reader
+//! ([`runtime::io::csv`]: comment lines, white-space fields, numbers). The
+//! file is not CSV: its columns are aligned with runs of spaces and its
+//! header is separated by tabs, so fields are split at runs of white space
+//! ([`Separator::Whitespace`]; the names hold no blanks), and this module
+//! checks the fixed header and the thirteen values of a row itself, with
+//! the messages of this format.
 
 use std::path::Path;
 
 use runtime::imported_contact::{ImportedContactTable, ImportedRow};
+use runtime::io::csv::{NumberError, Separator, data_lines, parse_number, split_fields};
 
 use crate::error::InputError;
 
@@ -79,17 +88,13 @@ pub fn read_rsgeo(path: &Path) -> Result<ImportedContactTable, RsgeoError> {
 /// table's `source`.
 pub fn parse_rsgeo(text: &str, path: &Path) -> Result<ImportedContactTable, InputError> {
     let err = |line: Option<usize>, rule: String| InputError::new(path, line, rule);
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .map(|(i, l)| (i + 1, l.trim()))
-        .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
+    let mut lines = data_lines(text);
     let (header_line, header) = lines
         .next()
         .ok_or_else(|| err(None, "no header line: the file is empty".into()))?;
-    let names: Vec<&str> = header
-        .split('\t')
-        .map(|n| n.trim().trim_matches('"'))
+    let names: Vec<String> = split_fields(header, Separator::Whitespace)
+        .iter()
+        .map(|n| n.trim_matches('"').to_string())
         .filter(|n| !n.is_empty())
         .collect();
     if names != RSGEO_COLUMNS {
@@ -107,7 +112,7 @@ pub fn parse_rsgeo(text: &str, path: &Path) -> Result<ImportedContactTable, Inpu
     let mut rows = Vec::new();
     let mut lines_of_rows = Vec::new();
     for (line, l) in lines {
-        let fields: Vec<&str> = l.split_whitespace().collect();
+        let fields = split_fields(l, Separator::Whitespace);
         if fields.len() != RSGEO_COLUMNS.len() {
             return Err(err(
                 Some(line),
@@ -120,22 +125,16 @@ pub fn parse_rsgeo(text: &str, path: &Path) -> Result<ImportedContactTable, Inpu
         }
         let mut v = [0.0; 13];
         for (k, (f, out)) in fields.iter().zip(v.iter_mut()).enumerate() {
-            let x: f64 = f.parse().map_err(|_| {
-                err(
-                    Some(line),
-                    format!(
-                        "column {} ({}) = '{f}' is not a number",
-                        k, RSGEO_COLUMNS[k]
-                    ),
-                )
+            *out = parse_number(f).map_err(|e| {
+                let name = RSGEO_COLUMNS[k];
+                let rule = match e {
+                    NumberError::NotANumber => {
+                        format!("column {k} ({name}) = '{f}' is not a number")
+                    }
+                    NumberError::NonFinite => format!("column {k} ({name}) = {f} is not finite"),
+                };
+                err(Some(line), rule)
             })?;
-            if !x.is_finite() {
-                return Err(err(
-                    Some(line),
-                    format!("column {} ({}) = {f} is not finite", k, RSGEO_COLUMNS[k]),
-                ));
-            }
-            *out = x;
         }
         y_m.push(v[0]);
         let mut r = [0.0; 11];

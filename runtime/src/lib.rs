@@ -1,15 +1,21 @@
 //! Run-time library of the wheel–rail contact toolkit (Pombo, Ambrósio &
 //! Silva; see `SPEC.md` at the project's root).
 //!
-//! Math modules take plain structs and return plain structs; only
-//! [`schema`] touches files (the HDF5 table schema, read and write, so the
-//! pre-processor's writer and the simulator's reader cannot drift apart).
+//! Math modules take plain structs and return plain structs; only the
+//! modules of the `io` feature (on by default) touch files: [`schema`]
+//! (the HDF5 table and results files, read and write, so the
+//! pre-processor's writer and the simulator's reader cannot drift apart)
+//! [`io`] (the one atomic file writer, the one numeric table reader) and
+//! [`profile_import`] (profile files). Without `io` the crate builds
+//! without HDF5.
 //!
 //! Units: SI throughout (m, s, kg, N, rad). Global frame Z up; track frame
 //! `t` tangent, `n` lateral pointing left, `b = t × n` up (SPEC §1).
 
 pub mod profile;
 pub mod quadrature;
+pub mod results;
+#[cfg(feature = "io")]
 pub mod schema;
 pub mod spline;
 pub mod track;
@@ -27,5 +33,8 @@ pub mod elliptic;
 pub mod hertz;
 pub mod imported_contact;
 pub mod integrator;
+#[cfg(feature = "io")]
+pub mod io;
 pub mod normal;
+#[cfg(feature = "io")]
 pub mod profile_import;

@@ -13,7 +13,7 @@
 //!   [`ContactSource`] per wheelset (online, table, imported);
 //! - [`table_contact`]: contact from the lookup table instead of Newton;
 //! - [`imported_contact`]: contact from a table computed by another code;
-//! - [`recorder`]: sampled outputs into [`crate::schema::results::RunResults`];
+//! - [`recorder`]: sampled outputs into [`crate::results::RunResults`];
 //! - [`linear`]: linearisation around the centred run, modes, hunting.
 //!
 //! State: [`crate::body::BodyState::LEN`] (13) variables per wheelset and

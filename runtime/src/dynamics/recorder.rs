@@ -1,8 +1,8 @@
-//! Sampled outputs of a run (SPEC §8 outputs; the results file layout is
-//! [`crate::schema::results`]): at every output time the system is
-//! evaluated at the (interpolated) state and each wheelset's track-relative
-//! position and each wheel's contacts are appended to a
-//! [`RunResults`]; each wheel's Nadal limit (its steepest flange angle and
+//! Sampled outputs of a run (SPEC §8 outputs; the data model is
+//! [`crate::results`], which `crate::schema::write_results` writes to a
+//! file): at every output time the system is evaluated at the
+//! (interpolated) state and each wheelset's track-relative position and
+//! each wheel's contacts are appended to a [`RunResults`]; each wheel's Nadal limit (its steepest flange angle and
 //! the run's friction coefficient, [`crate::contact::nadal`]) is stored with
 //! its Y/Q series.
 
@@ -11,7 +11,7 @@ use super::track_motion::track_rotation;
 use crate::contact::SolveMethod;
 use crate::contact::nadal::NadalLimit;
 use crate::profile::{MAX_SEGMENTS, Zone};
-use crate::schema::results::{
+use crate::results::{
     FALLBACK_HERTZ_FLOOR, FALLBACK_MINIMISATION, RunResults, WheelSample, WheelsetSample,
     ZoneSample,
 };

@@ -1,17 +1,25 @@
-//! Column formats: plain two-column text and CSV with a header row.
+//! Column formats: plain two-column text and CSV with a header row, read
+//! with the workspace's one table reader ([`crate::io::csv`]).
 //!
 //! * Plain (`.dat`, `.txt`, …): `y z` a line, separated by white space or
 //!   by one comma; `#`, `!` and `%` start a comment (a whole line or the
 //!   rest of one); blank lines are ignored. Millimetres (EN 15302 reference
-//!   files, Miniprof exports), z up (z negative downward).
+//!   files, Miniprof exports), z up (z negative downward). Not CSV: a
+//!   comment may start anywhere in a line and the separator is chosen per
+//!   line (runs of white space, or commas), so this module finds the data
+//!   part of each line itself and splits it with
+//!   [`split_fields`](crate::io::csv::split_fields).
 //! * CSV (`.csv`): a header row naming two columns, `y` or `y_mm` and `z` or
 //!   `z_mm` (any order, case-insensitive, optionally quoted), then rows of
 //!   two comma-separated numbers; lines starting with `#` and blank lines
-//!   are ignored (SPEC §2). Each column's unit is in its name; z up.
+//!   are ignored (SPEC §2). Each column's unit is in its name; z up. The
+//!   header is checked here (its rules are the format's), the table read by
+//!   [`CsvTable::parse`].
 
 use std::path::Path;
 
 use super::{PLAIN_DEFAULT_UNIT_M, ProfileImportError as E, RawPoint, RawProfile, number};
+use crate::io::csv::{CsvError, CsvTable, Separator, data_lines, split_fields};
 
 /// Characters that start a comment in a plain file.
 const PLAIN_COMMENT: [char; 3] = ['#', '!', '%'];
@@ -36,7 +44,12 @@ pub(super) fn parse_plain(path: &Path, text: &str) -> Result<RawProfile, E> {
             }
             continue;
         }
-        let fields = split_fields(data);
+        let separator = if data.contains(',') {
+            Separator::Comma
+        } else {
+            Separator::Whitespace
+        };
+        let fields = split_fields(data, separator);
         if fields.len() != 2 {
             return Err(E::FieldCount {
                 path: path.to_path_buf(),
@@ -45,8 +58,8 @@ pub(super) fn parse_plain(path: &Path, text: &str) -> Result<RawProfile, E> {
                 found: fields.len(),
             });
         }
-        let y = number(path, line, || "y (column 1)".into(), fields[0])?;
-        let z = number(path, line, || "z (column 2)".into(), fields[1])?;
+        let y = number(path, line, || "y (column 1)".into(), &fields[0])?;
+        let z = number(path, line, || "z (column 2)".into(), &fields[1])?;
         points.push(RawPoint {
             y,
             z,
@@ -72,16 +85,6 @@ pub(super) fn parse_plain(path: &Path, text: &str) -> Result<RawProfile, E> {
     })
 }
 
-/// Fields of a data line: split at commas if there is one (an empty field
-/// is kept, so it is reported), else at white space.
-fn split_fields(data: &str) -> Vec<&str> {
-    if data.contains(',') {
-        data.split(',').map(str::trim).collect()
-    } else {
-        data.split_whitespace().collect()
-    }
-}
-
 fn join_comment(lines: &[&str]) -> Option<String> {
     let text = lines.join("\n").trim().to_string();
     (!text.is_empty()).then_some(text)
@@ -105,124 +108,109 @@ pub(super) fn parse_csv(path: &Path, text: &str) -> Result<RawProfile, E> {
         line,
         rule,
     };
-    let mut comment: Vec<&str> = Vec::new();
-    let mut header: Option<(usize, [usize; 2])> = None; // (line, file column of y and of z)
-    let mut per_m = [1.0, 1.0];
-    let mut points = Vec::new();
-    let mut last_line = 0;
-
-    for (i, raw) in text.lines().enumerate() {
-        let line = i + 1;
-        let l = raw.trim();
-        if l.is_empty() {
-            continue;
-        }
-        if let Some(note) = l.strip_prefix('#') {
-            if header.is_none() {
-                comment.push(note.trim_start_matches('#').trim());
-            }
-            continue;
-        }
-        let fields: Vec<&str> = l.split(',').map(str::trim).collect();
-
-        let Some((_, cols)) = header else {
-            let names: Vec<String> = fields
-                .iter()
-                .map(|f| {
-                    f.trim_matches('"')
-                        .trim_matches('\'')
-                        .trim()
-                        .to_ascii_lowercase()
-                })
-                .collect();
-            if names.iter().all(|n| n.parse::<f64>().is_ok()) {
-                return Err(header_err(
-                    line,
-                    format!(
-                        "expected a header row naming the columns (y,z in m or y_mm,z_mm in mm), found numbers '{l}'; a file without a header is read as plain text (millimetres) when its extension is not .csv"
-                    ),
-                ));
-            }
-            let mut cols = [None, None];
-            for (k, n) in names.iter().enumerate() {
-                let Some((coord, unit)) = csv_column(n) else {
-                    return Err(header_err(
-                        line,
-                        format!(
-                            "unknown column '{n}' (column {}); expected y or y_mm, and z or z_mm",
-                            k + 1
-                        ),
-                    ));
-                };
-                if cols[coord].is_some() {
-                    return Err(header_err(
-                        line,
-                        format!("a second {} column '{n}'", ["y", "z"][coord]),
-                    ));
-                }
-                cols[coord] = Some(k);
-                per_m[coord] = unit;
-            }
-            let (Some(cy), Some(cz), 2) = (cols[0], cols[1], names.len()) else {
-                return Err(header_err(
-                    line,
-                    format!(
-                        "the header '{l}' must name exactly two columns: y or y_mm, and z or z_mm"
-                    ),
-                ));
-            };
-            header = Some((line, [cy, cz]));
-            continue;
-        };
-
-        if fields.len() != 2 {
-            return Err(E::FieldCount {
-                path: path.to_path_buf(),
-                line,
-                expected: "2 comma-separated values (as named by the header)".into(),
-                found: fields.len(),
-            });
-        }
-        let names = ["y", "z"];
-        let y = number(
-            path,
-            line,
-            || format!("{} (column {})", names[0], cols[0] + 1),
-            fields[cols[0]],
-        )?;
-        let z = number(
-            path,
-            line,
-            || format!("{} (column {})", names[1], cols[1] + 1),
-            fields[cols[1]],
-        )?;
-        points.push(RawPoint {
-            y,
-            z,
-            weight: 1.0,
-            line,
-        });
-        last_line = line;
-    }
-
-    let Some((header_line, _)) = header else {
+    let Some((header_line, l)) = data_lines(text).next() else {
         return Err(header_err(
             text.lines().count().max(1),
             "no header row (expected y,z in m or y_mm,z_mm in mm)".into(),
         ));
     };
+    let line = header_line;
+    let names: Vec<String> = split_fields(l, Separator::Comma)
+        .iter()
+        .map(|f| {
+            f.trim_matches('"')
+                .trim_matches('\'')
+                .trim()
+                .to_ascii_lowercase()
+        })
+        .collect();
+    if names.iter().all(|n| n.parse::<f64>().is_ok()) {
+        return Err(header_err(
+            line,
+            format!(
+                "expected a header row naming the columns (y,z in m or y_mm,z_mm in mm), found numbers '{l}'; a file without a header is read as plain text (millimetres) when its extension is not .csv"
+            ),
+        ));
+    }
+    let mut per_m = [1.0, 1.0];
+    let mut cols = [None, None];
+    for (k, n) in names.iter().enumerate() {
+        let Some((coord, unit)) = csv_column(n) else {
+            return Err(header_err(
+                line,
+                format!(
+                    "unknown column '{n}' (column {}); expected y or y_mm, and z or z_mm",
+                    k + 1
+                ),
+            ));
+        };
+        if cols[coord].is_some() {
+            return Err(header_err(
+                line,
+                format!("a second {} column '{n}'", ["y", "z"][coord]),
+            ));
+        }
+        cols[coord] = Some(k);
+        per_m[coord] = unit;
+    }
+    let (Some(cy), Some(cz), 2) = (cols[0], cols[1], names.len()) else {
+        return Err(header_err(
+            line,
+            format!("the header '{l}' must name exactly two columns: y or y_mm, and z or z_mm"),
+        ));
+    };
+
+    // The header is valid: the table reader's own header rules hold, and
+    // what it refuses is a row.
+    let coordinate = |column: usize| if column == cy + 1 { "y" } else { "z" };
+    let table = CsvTable::parse(path, text, Separator::Comma).map_err(|e| match e {
+        CsvError::FieldCount { line, found, .. } => E::FieldCount {
+            path: path.to_path_buf(),
+            line,
+            expected: "2 comma-separated values (as named by the header)".into(),
+            found,
+        },
+        CsvError::NotANumber {
+            line, column, text, ..
+        } => E::NotANumber {
+            path: path.to_path_buf(),
+            line,
+            what: format!("{} (column {column})", coordinate(column)),
+            text,
+        },
+        CsvError::NonFinite {
+            line, column, text, ..
+        } => E::NonFinite {
+            path: path.to_path_buf(),
+            line,
+            what: format!("{} (column {column})", coordinate(column)),
+            text,
+        },
+        other => E::Syntax {
+            path: path.to_path_buf(),
+            line: other.line().unwrap_or(header_line),
+            rule: other.rule(),
+        },
+    })?;
+    let points: Vec<RawPoint> = table
+        .rows
+        .iter()
+        .map(|(line, v)| RawPoint {
+            y: v[cy],
+            z: v[cz],
+            weight: 1.0,
+            line: *line,
+        })
+        .collect();
+    let preamble: Vec<&str> = table.preamble.iter().map(String::as_str).collect();
     Ok(RawProfile {
         in_file: points.len(),
-        end_line: if points.is_empty() {
-            header_line
-        } else {
-            last_line
-        },
+        end_line: points.last().map_or(header_line, |p| p.line),
         points,
         per_m,
         z_down: false,
         kind: None,
-        comment: join_comment(&comment),
+        comment: join_comment(&preamble),
         simpack: None,
     })
 }

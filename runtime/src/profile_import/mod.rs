@@ -3,6 +3,12 @@
 //! converted to metres, with the metadata needed to convert them into the
 //! toolkit's wheel/rail conventions (done elsewhere, not here).
 //!
+//! The module is behind the `io` feature (on by default): its plain and
+//! CSV formats are read by the workspace's one table reader
+//! ([`crate::io::csv`], which also parses every number here). Parsing text
+//! ([`parse_profile`], [`parse_profile_as`]) does not touch the file
+//! system; [`read_profile`], [`load_wheel`] and [`load_rail`] read files.
+//!
 //! # Formats
 //!
 //! | format | recognised by | units | z | lateral convention |
@@ -64,6 +70,8 @@ pub use load::{ProfileLoadError, load_rail, load_wheel};
 pub use simpack::SimpackSettings;
 
 use std::path::{Path, PathBuf};
+
+use crate::io::csv::{NumberError, parse_number};
 
 /// Fewest points a profile may have (a cubic spline needs four).
 pub const MIN_POINTS: usize = 4;
@@ -374,7 +382,7 @@ impl ProfileImportError {
 }
 
 /// Read the profile file `path` (format from its extension or content, see
-/// the module docs).
+/// the module docs); the parsing alone is [`parse_profile`].
 pub fn read_profile(
     path: &Path,
     options: &ImportOptions,
@@ -589,40 +597,8 @@ fn y_order(points: &[[f64; 2]], lines: &[usize]) -> YOrder {
     }
 }
 
-/// Why a token is not a usable number.
-enum NumberError {
-    NotANumber,
-    NonFinite,
-}
-
-/// Parse one numeric token. Accepts Rust/C float syntax (`+1.5e+03`,
-/// `.5`) and Fortran `D` exponents (`1.5D+03`).
-fn parse_number(token: &str) -> Result<f64, NumberError> {
-    let v = match token.parse::<f64>() {
-        Ok(v) => v,
-        Err(_) => {
-            let fortran = token.replace(['d', 'D'], "e");
-            if fortran == token
-                || !token
-                    .bytes()
-                    .next()
-                    .is_some_and(|b| b.is_ascii_digit() || b"+-.".contains(&b))
-            {
-                return Err(NumberError::NotANumber);
-            }
-            fortran
-                .parse::<f64>()
-                .map_err(|_| NumberError::NotANumber)?
-        }
-    };
-    if v.is_finite() {
-        Ok(v)
-    } else {
-        Err(NumberError::NonFinite)
-    }
-}
-
-/// [`parse_number`] with the error located at `line` and described by `what`.
+/// [`parse_number`] (the workspace's one number reader) with the error
+/// located at `line` and described by `what`.
 fn number(
     path: &Path,
     line: usize,

@@ -13,7 +13,7 @@
 //! /input/command_line, /input/<role>  provenance: the command and the imported file's text
 //! ```
 //!
-//! Files are written atomically ([`super::AtomicFile`] through
+//! Files are written atomically ([`crate::io::AtomicFile`] through
 //! [`TableFileWriter`]); the reader checks the schema version and the
 //! table's rules ([`ImportedContactTable::validate`]).
 

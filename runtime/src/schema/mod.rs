@@ -32,24 +32,23 @@
 //! meaning of an existing column bumps [`SCHEMA_VERSION`].
 //!
 //! Files are written atomically: to a hidden temporary name in the target
-//! directory, renamed into place only when complete ([`AtomicFile`]).
+//! directory, renamed into place only when complete ([`crate::io::atomic`]).
 //!
 //! The same module writes and reads the simulation results file (its own
-//! schema, `railsim-results`): see [`results`] for its layout.
+//! schema, `railsim-results`, layout in `results_file`): [`write_results`],
+//! [`read_results`]. The results themselves are plain data in
+//! [`crate::results`].
 
-mod atomic;
 mod attrs;
 mod columns;
 mod contact_table;
 mod imported;
-pub mod results;
+mod results_file;
 mod track;
 
-pub use atomic::AtomicFile;
 pub use imported::{read_imported_contact_table, write_imported_contact_table_file};
-pub use results::{
-    RESULTS_SCHEMA, RESULTS_SCHEMA_VERSION, ResultsError, RunResults, WheelSample, WheelSeries,
-    WheelsetSample, WheelsetSeries, ZoneSample, ZoneSeries, read_results, write_results,
+pub use results_file::{
+    RESULTS_SCHEMA, RESULTS_SCHEMA_VERSION, RESULTS_TOOL, read_results, write_results,
 };
 pub use track::{
     TableFileWriter, read_contact_table, read_provenance, read_track, write_contact_table_file,
@@ -129,7 +128,7 @@ pub enum SchemaError {
     InvalidResults {
         path: PathBuf,
         #[source]
-        source: results::ResultsError,
+        source: crate::results::ResultsError,
     },
     #[error("cannot write '{path}': {source}")]
     Io {

@@ -5,8 +5,9 @@ use std::path::{Path, PathBuf};
 use hdf5::types::VarLenUnicode;
 
 use super::columns::{read_table, to_vlu, write_table};
-use super::{AtomicFile, SCHEMA_VERSION, SchemaError, attrs, contact_table};
+use super::{SCHEMA_VERSION, SchemaError, attrs, contact_table};
 use crate::contact_table::ContactTable;
+use crate::io::AtomicFile;
 use crate::track::{
     CENTERLINE_COLUMNS, CENTERLINE_UNITS, CenterlineRow, CenterlineTable, InputFile, Provenance,
     RAIL_COLUMNS, RAIL_UNITS, RailRow, RailTable, Side, TrackMeta, TrackTables,
