@@ -14,7 +14,7 @@ use common::*;
 use railsim::config::scene::{ContactMethodKind, FlangeMode, LoadedScene, PlanMode};
 use railsim::report::run_files::{RunRequest, run_to_files};
 use railsim::session::plan::{By, FlangeGuard, Plan, TrackFacts, build_track_range};
-use runtime::schema::results::read_results;
+use runtime::schema::read_results;
 use serde_json::Value;
 
 /// The bogie scene with its track and run length replaced.
@@ -364,7 +364,7 @@ fn sim_run_prints_the_block_and_the_planned_run_equals_the_full_model() {
         read_results(&planned).unwrap(),
         read_results(&full).unwrap(),
     );
-    let attr = |r: &runtime::schema::results::RunResults, k: &str| {
+    let attr = |r: &runtime::results::RunResults, k: &str| {
         r.attributes
             .iter()
             .find(|(n, _)| n == k)

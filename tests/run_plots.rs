@@ -8,7 +8,7 @@ use railsim::report::run_plots::{
     comparison_chart, contact_force_panels, creepage_panels, lateral_displacement_chart,
     write_comparison_plot, write_run_plots,
 };
-use runtime::schema::{RunResults, WheelSample, WheelsetSample, ZoneSample};
+use runtime::results::{RunResults, WheelSample, WheelsetSample, ZoneSample};
 
 fn scratch(name: &str) -> PathBuf {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
@@ -256,8 +256,8 @@ fn inconsistent_results_are_not_plotted() {
 fn sim_compare_prints_the_lateral_difference_per_wheelset() {
     let dir = scratch("sim_compare_difference");
     let (a, b) = (dir.join("a.h5"), dir.join("b.h5"));
-    runtime::schema::results::write_results(&a, &synthetic(10.0, 6e-3)).unwrap();
-    runtime::schema::results::write_results(&b, &synthetic(10.0, 5e-3)).unwrap();
+    runtime::schema::write_results(&a, &synthetic(10.0, 6e-3)).unwrap();
+    runtime::schema::write_results(&b, &synthetic(10.0, 5e-3)).unwrap();
     let o = std::process::Command::new(env!("CARGO_BIN_EXE_sim"))
         .arg("compare")
         .args([&a, &a, &b])

@@ -81,7 +81,7 @@ pub fn run(cli: Cli) -> Result<()> {
         } => {
             let mut loaded = Vec::new();
             for p in &runs {
-                let r = runtime::schema::results::read_results(p)
+                let r = runtime::schema::read_results(p)
                     .with_context(|| format!("reading {}", p.display()))?;
                 let label = format!(
                     "{} m/s, {}",
@@ -90,7 +90,7 @@ pub fn run(cli: Cli) -> Result<()> {
                 );
                 loaded.push((label, r));
             }
-            let refs: Vec<(String, &runtime::schema::results::RunResults)> =
+            let refs: Vec<(String, &runtime::results::RunResults)> =
                 loaded.iter().map(|(l, r)| (l.clone(), r)).collect();
             crate::report::run_plots::write_comparison_plot(&refs, wheelset, &out, &title)?;
             println!("wrote {}", out.display());

@@ -25,7 +25,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail, ensure};
 use preproc::plot::{LineChart, Series, write_line_chart, write_multi_panel};
-use runtime::schema::{RunResults, WheelsetSeries, ZoneSeries};
+use runtime::results::{RunResults, WheelsetSeries, ZoneSeries};
 
 /// File names written by [`write_run_plots`].
 pub const LATERAL_DISPLACEMENT_PNG: &str = "lateral_displacement.png";
@@ -35,7 +35,7 @@ pub const CREEPAGES_PNG: &str = "creepages.png";
 /// Palette colours of the left and right wheels.
 const WHEEL_COLOURS: [usize; 2] = [0, 1];
 const WHEEL_LABELS: [&str; 2] = ["left wheel", "right wheel"];
-/// Index of the tread and flange zones in [`runtime::schema::WheelSeries::zones`].
+/// Index of the tread and flange zones in [`runtime::results::WheelSeries::zones`].
 const TREAD: usize = 0;
 const FLANGE: usize = 1;
 

@@ -41,7 +41,7 @@ use runtime::dynamics::track_motion::{project_s, track_relative, track_rotation}
 use runtime::dynamics::{DynamicsError, VehicleSystem};
 use runtime::hertz::HertzError;
 use runtime::integrator::{Control, IntegrationStats, IntegratorError, OdeSystem};
-use runtime::schema::results::{WHEEL_GROUPS, WheelsetSeries};
+use runtime::results::{WHEEL_GROUPS, WheelsetSeries};
 use serde::Serialize;
 
 /// A [`VehicleSystem`] that remembers the last state it was evaluated at
@@ -519,9 +519,9 @@ impl FallbackCounts {
     pub fn count(
         minimisation_solves: u64,
         hertz_floor_evaluations: u64,
-        results: &runtime::schema::results::RunResults,
+        results: &runtime::results::RunResults,
     ) -> Self {
-        use runtime::schema::results::{FALLBACK_HERTZ_FLOOR, FALLBACK_MINIMISATION};
+        use runtime::results::{FALLBACK_HERTZ_FLOOR, FALLBACK_MINIMISATION};
         let samples = |bit: u8| {
             (0..results.len())
                 .filter(|&i| {

@@ -23,7 +23,7 @@ use summary::wheelset_summaries;
 use anyhow::{Context, Result, anyhow};
 use runtime::dynamics::Recorder;
 use runtime::integrator::{IntegrationStats, OutputGrid, integrate};
-use runtime::schema::results::RunResults;
+use runtime::results::RunResults;
 
 use crate::config::scene::LoadedScene;
 

@@ -4,8 +4,8 @@
 use crate::config::scene::{ContactMethodKind, CreepLawName, IntegratorKind};
 use crate::session::track::TrackSource;
 
-use runtime::dynamics::system::EnergyLedger;
-use runtime::schema::results::RunResults;
+use runtime::dynamics::EnergyLedger;
+use runtime::results::RunResults;
 use serde::Serialize;
 
 /// Per-wheelset figures of a run.
@@ -29,7 +29,7 @@ pub struct WheelsetSummary {
 }
 
 /// The energy bookkeeping of a run (J;
-/// `runtime::dynamics::system::EnergyLedger`): E − E0 = axle torque work +
+/// `runtime::dynamics::EnergyLedger`): E − E0 = axle torque work +
 /// reference work + element turning work − creep, contact damping and
 /// damper dissipation, up to `residual_j`.
 #[derive(Debug, Clone, Serialize, PartialEq)]

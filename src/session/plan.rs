@@ -1161,7 +1161,7 @@ pub fn build_track_range(ls: &LoadedScene, range: [f64; 2]) -> Result<TrackTable
 /// distance, lateral and yaw), or `None`.
 pub fn guard_check(
     guard: &FlangeGuard,
-    results: &runtime::schema::results::RunResults,
+    results: &runtime::results::RunResults,
     t_s: f64,
 ) -> Option<String> {
     results.wheelsets.iter().find_map(|w| {

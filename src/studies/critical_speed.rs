@@ -26,7 +26,7 @@ use anyhow::{Context, Result, bail};
 use rayon::prelude::*;
 use runtime::dynamics::linear::{Mode, linearise};
 use runtime::dynamics::{InitialConditions, SystemSettings, VehicleSystem};
-use runtime::schema::results::RunResults;
+use runtime::results::RunResults;
 use serde::Serialize;
 
 use crate::config::Variation;
@@ -425,7 +425,7 @@ pub fn time_domain(
         // as growing: its results so far are used (and written, for the user).
         let outcome = run_scene(&s, &mut |_| {}, Some(stop.clone()))
             .with_context(|| format!("run at {v} m/s"))?;
-        runtime::schema::results::write_results(&output, &outcome.results)
+        runtime::schema::write_results(&output, &outcome.results)
             .with_context(|| format!("writing the run at {v} m/s to {}", output.display()))?;
         let fit = growth_rate(&outcome.results, 0, settings.skip_s);
         Ok(SpeedSample::new(
@@ -544,7 +544,7 @@ pub fn ramp(
     std::fs::create_dir_all(&dir)?;
     let output = dir.join(format!("{law}_ramp.h5"));
     let ran = run_scene(&s, &mut |_| {}, Some(stop)).and_then(|outcome| {
-        runtime::schema::results::write_results(&output, &outcome.results)
+        runtime::schema::write_results(&output, &outcome.results)
             .with_context(|| format!("writing the ramp run {}", output.display()))?;
         let (results, summary) = outcome.into_parts(&output.display().to_string());
         summary.map(|_| results)
@@ -751,7 +751,7 @@ impl CriticalSpeedReport {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use runtime::schema::results::{WheelsetSample, WheelsetSeries};
+    use runtime::results::{WheelsetSample, WheelsetSeries};
 
     fn synthetic(rate: f64, freq: f64, flange_after_s: f64) -> RunResults {
         let mut r = RunResults::with_wheelsets(["ws"]);

@@ -45,7 +45,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use anyhow::{Context, Result, bail, ensure};
-use runtime::schema::results::RunResults;
+use runtime::results::RunResults;
 use serde::Serialize;
 
 use crate::config::Variation;
@@ -866,7 +866,7 @@ fn run_variant(
     let mut last = None;
     for k in 0..settings.repeats {
         let ran = run_scene(&vs, &mut |_| {}, Some(stop.clone())).and_then(|outcome| {
-            runtime::schema::results::write_results(&output, &outcome.results)
+            runtime::schema::write_results(&output, &outcome.results)
                 .with_context(|| format!("writing {}", output.display()))?;
             let (results, summary) = outcome.into_parts(&output.display().to_string());
             summary.map(|s| (s, results))
@@ -1444,7 +1444,7 @@ pub fn command(args: &TradeoffArgs) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use runtime::schema::results::WheelsetSample;
+    use runtime::results::WheelsetSample;
 
     fn sine(freq: f64, amp: f64, rate: f64) -> RunResults {
         let mut r = RunResults::with_wheelsets(["ws"]);

@@ -12,7 +12,7 @@
 //! - no panic, a completed run, and no NaN or infinity in any float dataset
 //!   of its results file except where the schema writes NaN for "no
 //!   contact" ([`check_results_finite`]);
-//! - its energy balance (`runtime::dynamics::system::EnergyLedger`,
+//! - its energy balance (`runtime::dynamics::EnergyLedger`,
 //!   reported by `sim run --json`): E − E0 = axle torque work + reference
 //!   work + element turning work − creep, contact damping and damper
 //!   dissipation, up to a residual ≤ 2e-3 of the largest term + 0.05 J.
@@ -160,7 +160,7 @@ impl Run {
 }
 
 /// Walks every dataset of a results file: every float value finite, except
-/// where the schema writes NaN for "no contact" (`runtime::schema::results`)
+/// where the schema writes NaN for "no contact" (`runtime::results`)
 /// — in a zone group at the samples where `in_contact` is 0, and in a
 /// wheel group at the samples where no zone carries a positive normal
 /// force (Y, Q, Y/Q). Infinity never. Returns the number of values checked.

@@ -449,7 +449,7 @@ impl RunOutcome {
 
 /// Walks every dataset of a results file and checks that every float value
 /// is finite, except where the schema writes NaN for "no contact"
-/// (`runtime::schema::results`): in a zone group (`…/tread`, `…/flange`) at
+/// (`runtime::results`): in a zone group (`…/tread`, `…/flange`) at
 /// the samples where its `in_contact` is 0 — there NaN is required — and,
 /// in a wheel group, the datasets whose `description` says NaN (Y, Q, Y/Q)
 /// at the samples where no zone carries load (none in contact, or those in
