@@ -2,7 +2,7 @@
 //! range ([`TrackFacts`]), the distance travelled and the stretch of track
 //! the run covers ([`travel_m`], [`required_range_m`]), and the vehicle's
 //! flange ([`FlangeFacts`]), measured on an ideal straight whose vehicle
-//! model the stability check shares ([`CheckModel`]: built at most once).
+//! model the stability check shares (`CheckModel`: built at most once).
 
 use std::path::PathBuf;
 

@@ -2,8 +2,8 @@
 //! wheel starts far enough from its flange and the linearised centred run
 //! is stable with margin (the hunting check), watched by a
 //! [`FlangeGuard`]; `auto` otherwise (module docs of [`super`]). The
-//! assessment ([`assess`]) comes before the contact method (the table
-//! needs no flange contact to be expected), the decision ([`decide`])
+//! assessment (`assess`) comes before the contact method (the table
+//! needs no flange contact to be expected), the decision (`decide`)
 //! after it.
 
 use anyhow::{Context, Result};
