@@ -164,7 +164,7 @@ impl WheelsetState {
 /// (off the tables, non-finite).
 pub fn wheelset_state(system: &VehicleSystem<'_>, i: usize, y: &[f64]) -> Option<WheelsetState> {
     let w = system.vehicle().wheelsets.get(i)?;
-    let slot = y.get(13 * i..13 * i + 13)?;
+    let slot = y.get(BodyState::slot(i))?;
     if slot.iter().any(|v| !v.is_finite()) {
         return None;
     }

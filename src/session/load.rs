@@ -116,7 +116,7 @@ pub fn perturb(
         let w = &vehicle.wheelsets[i];
         let frame = track_rotation(&track.centerline, s_start_m + w.x_m)?;
         let (n, b) = (frame.column(1).into_owned(), frame.column(2).into_owned());
-        let slot = &mut y0[BodyState::LEN * i..BodyState::LEN * (i + 1)];
+        let slot = &mut y0[BodyState::slot(i)];
         let mut st = BodyState::read_from(slot);
         st.position_m += b * p.drop_m;
         st.velocity_m_s += n * p.lateral_velocity_m_s;

@@ -1,0 +1,154 @@
+//! The track range decision: only the stretch the run covers (module docs
+//! of [`super`]), built in memory ([`build_track_range`]) on the
+//! whole-track grid.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use preproc::{BuildConfig, BuildRequest, Inclination, RailSpacing, TrackModel};
+use runtime::track::TrackTables;
+
+use super::facts::{DYNAMICS_LOOKAHEAD_M, RANGE_MARGIN_M, TrackFacts, travel_m, vehicle_extent_m};
+use super::{By, Decision};
+use crate::config::scene::{LoadedScene, PlanMode};
+use crate::config::vehicle::VehicleFile;
+
+/// The track range to run with.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct RangeChoice {
+    pub decision: Decision,
+    /// `track.range_m`; `None`: the whole track.
+    pub range_m: Option<[f64; 2]>,
+    /// `track.straight_m` (an ideal straight shortened to the range).
+    pub straight_m: Option<f64>,
+}
+
+/// Decide the track range: `wanted` is [`super::required_range_m`],
+/// `chosen` whether the planner chooses it.
+pub(super) fn decide(
+    ls: &LoadedScene,
+    v: &VehicleFile,
+    facts: &TrackFacts,
+    wanted: [f64; 2],
+    mode: PlanMode,
+    chosen: bool,
+) -> RangeChoice {
+    let scene = &ls.scene;
+    let t = &scene.track;
+    let clipped = [wanted[0].max(0.0), wanted[1].min(facts.length_m)];
+    let (back, front) = vehicle_extent_m(v);
+    let range_reason = format!(
+        "s {:.1} m + {:.1} m travelled, vehicle {:.2} … {:+.2} m, {} m lookahead, {} m margins: {:.1} … {:.1} m of {:.1} m",
+        scene.initial.s_m,
+        travel_m(ls),
+        back,
+        front,
+        DYNAMICS_LOOKAHEAD_M,
+        RANGE_MARGIN_M,
+        clipped[0],
+        clipped[1],
+        facts.length_m
+    );
+    let (mut range_m, mut straight_m) = (t.range_m, t.straight_m);
+    let decision = if t.tables.is_some() {
+        Decision {
+            item: "track_range".into(),
+            value: format!("0 … {:.1} m", facts.length_m),
+            by: By::Scene,
+            reason: "a table file is used as it is".into(),
+        }
+    } else if mode == PlanMode::Everything {
+        range_m = None;
+        Decision {
+            item: "track_range".into(),
+            value: format!("0 … {:.1} m", facts.length_m),
+            by: By::Everything,
+            reason: "the whole track".into(),
+        }
+    } else if chosen {
+        let whole = clipped[0] <= 0.0 && clipped[1] >= facts.length_m;
+        let value;
+        if t.straight_m.is_some() {
+            straight_m = Some(clipped[1].max(10.5).min(facts.length_m));
+            range_m = None;
+            value = format!("0 … {:.1} m", straight_m.unwrap_or(facts.length_m));
+        } else if whole {
+            range_m = None;
+            value = format!("0 … {:.1} m", facts.length_m);
+        } else {
+            range_m = Some(clipped);
+            value = format!("{:.1} … {:.1} m", clipped[0], clipped[1]);
+        }
+        Decision {
+            item: "track_range".into(),
+            value,
+            by: By::Planner,
+            reason: range_reason,
+        }
+    } else {
+        Decision {
+            item: "track_range".into(),
+            value: match t.range_m {
+                Some([a, b]) => format!("{a:.1} … {b:.1} m"),
+                None => format!("0 … {:.1} m", facts.length_m),
+            },
+            by: By::Scene,
+            reason: format!(
+                "the planner would tabulate {:.1} … {:.1} m",
+                clipped[0], clipped[1]
+            ),
+        }
+    };
+    RangeChoice {
+        decision,
+        range_m,
+        straight_m,
+    }
+}
+
+/// The preproc build configuration of the scene's `[track]`.
+pub fn build_config(ls: &LoadedScene) -> Result<BuildConfig> {
+    let t = &ls.scene.track;
+    Ok(BuildConfig {
+        scheme: t.scheme.parse().context("[track] scheme")?,
+        step_m: t.step_m,
+        gauge_m: t.gauge_m,
+        rail_spacing: RailSpacing::default(),
+        inclination: t
+            .rail_inclination
+            .parse::<Inclination>()
+            .map_err(anyhow::Error::msg)
+            .context("[track] rail_inclination")?,
+        cant_base_m: None,
+    })
+}
+
+/// The scene's CSV inputs fitted (every curve of the track, no tables).
+pub(super) fn track_model(ls: &LoadedScene, config: &BuildConfig) -> Result<TrackModel> {
+    let t = &ls.scene.track;
+    let req = BuildRequest {
+        centerline: ls.path(t.centerline.as_ref().context("no centerline")?),
+        cant: t.cant.as_ref().map(|p| ls.path(p)),
+        irregularities: t.irregularities.as_ref().map(|p| ls.path(p)),
+        output: PathBuf::new(),
+        config: config.clone(),
+        contact: None,
+        command_line: String::new(),
+    };
+    let (inputs, _) = preproc::pipeline::read_inputs(&req).context("reading the track inputs")?;
+    TrackModel::build(&inputs, config).context("fitting the track")
+}
+
+/// The scene's track tables over `[from, to]` (m) only, built in memory
+/// from its CSV inputs: the curves are fitted over the whole track (as
+/// `track-preproc build` does), then only the rows inside the range are
+/// tabulated, on the whole-track grid (rows k·h of s and of each rail's L),
+/// so they equal the whole-track table's rows. The centreline rows are
+/// built by `preproc::model::TrackModel::tabulate_range`.
+pub fn build_track_range(ls: &LoadedScene, range: [f64; 2]) -> Result<TrackTables> {
+    let config = build_config(ls)?;
+    let model = track_model(ls, &config)?;
+    model
+        .tabulate_range(range[0], range[1], "sim run (track range in memory)")
+        .with_context(|| format!("[track] range_m = [{}, {}]", range[0], range[1]))
+}
