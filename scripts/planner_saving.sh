@@ -5,7 +5,7 @@
 # 'plan.choose=["all"]'`), interleaved, REPEATS times each; prints the
 # median wall times (integration, setup, planning, from `sim run --json`),
 # what the planner chose, and the largest lateral difference of any
-# wheelset between the two (`sim compare`). The README's table comes from
+# wheelset between the two (`sim compare`). The table of docs/guide/speed-accuracy-tradeoff.md comes from
 # this script.
 #
 #   scripts/planner_saving.sh [REPEATS]        (default 5; release build)

@@ -1,4 +1,4 @@
-//! Bad input (SPEC §2, issue 2 item 9): every case gets a clear error
+//! Bad input (docs/reference/02-inputs.md §2, issue 2 item 9): every case gets a clear error
 //! naming the file, the line and the rule, a non-zero exit, and no output
 //! file (nor a temporary) left behind.
 

@@ -280,7 +280,7 @@ fn compare_contact_tables_writes_its_plots() {
 
 /// The car's linear critical speed from the eigenvalues, checked against
 /// the time domain: 0.1 mm motions decay 4 % below it and grow 4 % above
-/// it (README "A published model": eigenvalues 110.7 m/s at 4.71 Hz, time
+/// it (`docs/guide/critical-speed.md`, "A published model": eigenvalues 110.7 m/s at 4.71 Hz, time
 /// domain 112.8 m/s — the contact-angle slope of the table falls with
 /// the amplitude, see there).
 #[test]
@@ -337,7 +337,7 @@ fn linear_critical_speed_agrees_with_the_time_domain() {
 
 /// The nonlinear critical speed: the hunting cycle survives far below the
 /// linear critical speed (110.7 m/s), a subcritical bifurcation. Ramps at
-/// 1 m/s² (the README's 0.5 m/s² gives 59.0 m/s by `critical-speed` and
+/// 1 m/s² (the guide's 0.5 m/s² gives 59.0 m/s by `critical-speed` and
 /// 59.1 m/s by `bifurcation`; 1 m/s² measured 57.96 and 57.99 m/s):
 /// - `sim critical-speed --method ramp` from a cycle at 150 m/s;
 /// - `sim bifurcation` on a coarse up-scan (40, 85, 130 m/s): small motions

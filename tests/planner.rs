@@ -1,4 +1,4 @@
-//! The planner ([`railsim::session::plan`], README "Only what the scene
+//! The planner ([`railsim::session::plan`], docs/guide/speed-accuracy-tradeoff.md "Only what the scene
 //! requires"): its decisions for constructed scenes (straight, curve,
 //! irregular; small and large offsets; a stable bogie and an unstable
 //! wheelset; with and without a tolerance), forced values kept, the

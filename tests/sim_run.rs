@@ -7,7 +7,7 @@
 //! - the ML95-like bogie: decay at 30 m/s, growth at 90 m/s, and the
 //!   Heuristic law less stable than Kalker and Polach near the critical
 //!   speed (paper Fig. 18, Table 1: in kind; our ML95-like data are not the
-//!   paper's, so the critical speed differs in number — README);
+//!   paper's, so the critical speed differs in number — docs/guide/critical-speed.md);
 //! - table contact agrees with online contact;
 //! - the results file layout, the `--json` summary, the default scene, the
 //!   table cache, Ctrl-C.

@@ -17,7 +17,7 @@ fn close(a: f64, b: f64, tol: f64) -> bool {
     (a - b).abs() <= tol
 }
 
-// The numbers of README.md.
+// The numbers of tables/vehicles/README.md.
 const WHEELSET_KG: f64 = 1430.0;
 const WHEELSET_INERTIA: [f64; 3] = [790.0, 82.0, 790.0];
 const FRAME_KG: f64 = 3600.0;
@@ -127,7 +127,7 @@ fn the_bogie_file_carries_half_a_loaded_car_on_two_wheelsets() {
     assert!(close(total_kg, BOGIE_KG + CAR_SHARE_KG, 1e-6), "{total_kg}");
 }
 
-/// The hand estimates of README.md, from the file's stiffnesses.
+/// The hand estimates of tables/vehicles/README.md, from the file's stiffnesses.
 #[test]
 fn the_documented_natural_frequencies_follow_from_the_file() {
     let v = vehicle("ml95_like_bogie.toml");
@@ -145,7 +145,7 @@ fn the_documented_natural_frequencies_follow_from_the_file() {
     // Frame bounce on the primary alone, and with the air springs (the car
     // share being fixed to the track in this model).
     assert!(close(hz(kp_z, frame.mass_kg), 5.81, 0.005));
-    #[allow(clippy::approx_constant)] // 6.28 Hz, the README figure, not τ
+    #[allow(clippy::approx_constant)] // 6.28 Hz, the tables/vehicles/README.md figure, not τ
     let with_air_springs = 6.28;
     assert!(close(
         hz(kp_z + ks_z, frame.mass_kg),

@@ -1,7 +1,7 @@
-//! The track centreline (paper §2a–c, SPEC §3a–c): a [`SpaceCurve`] through
+//! The track centreline (paper §2a–c, docs/reference/03-track-preproc.md §3a–c): a [`SpaceCurve`] through
 //! the control points, the cant φ(s) splined against the control points'
 //! track distance (or a separate cant table), and the track frame of
-//! SPEC §3c at every s.
+//! docs/reference/03-track-preproc.md §3c at every s.
 
 use runtime::spline::{PiecewiseCubic, Scheme};
 use runtime::track::Frame;

@@ -8,7 +8,7 @@ use runtime::spline::Scheme;
 
 use crate::error::BuildError;
 
-/// Default table step Δs (m) (SPEC §3g).
+/// Default table step Δs (m) (docs/reference/03-track-preproc.md §3g).
 pub const DEFAULT_STEP_M: f64 = 0.1;
 /// Default track gauge (m): standard gauge.
 pub const DEFAULT_GAUGE_M: f64 = 1.435;
@@ -19,7 +19,7 @@ pub const DEFAULT_GAUGE_M: f64 = 1.435;
 pub const DEFAULT_GAUGE_FACE_OFFSET_M: f64 = 0.036;
 /// Distance between the rail contact points minus the gauge (m), used for
 /// the default cant base e0 = gauge + 0.065 (1.500 m for standard gauge,
-/// SPEC §1).
+/// docs/reference/01-units-frames.md §1).
 pub const CANT_BASE_OVER_GAUGE_M: f64 = 0.065;
 
 /// How far apart the two rail space curves (the rails' profile origins) are.
@@ -99,7 +99,7 @@ impl FromStr for Inclination {
 /// Options of a track build.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BuildConfig {
-    /// Spline scheme for the centreline, the cant and the rails (SPEC §3a, f).
+    /// Spline scheme for the centreline, the cant and the rails (docs/reference/03-track-preproc.md §3a, f).
     pub scheme: Scheme,
     /// Table step Δs (m).
     pub step_m: f64,

@@ -27,7 +27,7 @@
 //! of tan γe (a pure cone Δr = 2λ·y gives tan γe = λ whatever e·r0 is). The
 //! EN 15302 reference cases are therefore reproduced with any e, r0; this
 //! module's defaults for reporting wavelengths are
-//! [`EN15302_CONTACT_DISTANCE_M`] = 1.5 m (standard gauge, SPEC §1) and
+//! [`EN15302_CONTACT_DISTANCE_M`] = 1.5 m (standard gauge, docs/reference/01-units-frames.md §1) and
 //! [`EN15302_NOMINAL_RADIUS_M`] = 0.46 m (the 920 mm reference wheels of
 //! EN 15302 Annex E; for the 920/918 mm cases E5–E8 the mean 0.4595 m gives
 //! the same tan γe and a wavelength 0.05 % shorter).
@@ -62,7 +62,7 @@
 //!
 //! # Sign convention
 //!
-//! Project convention (SPEC §1): y is the lateral displacement of the
+//! Project convention (docs/reference/01-units-frames.md §1): y is the lateral displacement of the
 //! wheelset, positive to the **left**, and Δr = r_left − r_right, so a
 //! wheelset displaced to the left has Δr > 0 for ordinary profiles and
 //! y·Δr > 0 away from the centre (restoring). The EN 15302 reference Δr
@@ -81,7 +81,7 @@ use runtime::quadrature::gauss_legendre_8;
 use serde::Serialize;
 
 /// Distance between the contact points used for reporting wavelengths (m):
-/// 1.500 m for standard gauge (SPEC §1). tan γe does not depend on it.
+/// 1.500 m for standard gauge (docs/reference/01-units-frames.md §1). tan γe does not depend on it.
 pub const EN15302_CONTACT_DISTANCE_M: f64 = 1.5;
 
 /// Rolling radius of the centred wheelset used for reporting wavelengths

@@ -1,4 +1,4 @@
-//! Building the contact lookup table of a wheel/rail profile pair (SPEC §4):
+//! Building the contact lookup table of a wheel/rail profile pair (docs/reference/04-table-files.md §4):
 //! the wheelset settled on straight track at every lateral shift (and yaw)
 //! of a grid — rigidly, or elastically under a wheel load — with its contact
 //! points, radii, angles, penetrations, curvatures, roll and height, the

@@ -1,4 +1,4 @@
-//! The numeric CSV files of SPEC §2 (centreline, cant, irregularities): a
+//! The numeric CSV files of docs/reference/02-inputs.md §2 (centreline, cant, irregularities): a
 //! header row, then rows of numbers separated by commas; blank lines and
 //! lines starting with `#` are ignored; spaces around fields are allowed.
 //! Read by the workspace's one table reader, [`runtime::io::csv`]; this

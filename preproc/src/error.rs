@@ -1,6 +1,6 @@
 //! Errors of the pre-processor. Every input error names the file, the line
 //! (1-based, as an editor shows it) where there is one, and the rule broken
-//! (SPEC §2).
+//! (docs/reference/02-inputs.md §2).
 
 use std::fmt;
 use std::path::PathBuf;

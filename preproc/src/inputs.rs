@@ -1,4 +1,4 @@
-//! The three CSV inputs of SPEC §2 — centreline control points, cant table,
+//! The three CSV inputs of docs/reference/02-inputs.md §2 — centreline control points, cant table,
 //! irregularity table — parsed and checked against their rules.
 
 use std::path::{Path, PathBuf};
@@ -6,9 +6,9 @@ use std::path::{Path, PathBuf};
 use crate::csv::{CsvTable, find_length_column};
 use crate::error::InputError;
 
-/// Fewest data rows accepted in any input table (SPEC §2).
+/// Fewest data rows accepted in any input table (docs/reference/02-inputs.md §2).
 pub const MIN_ROWS: usize = 4;
-/// Largest cant magnitude accepted (rad) (SPEC §2).
+/// Largest cant magnitude accepted (rad) (docs/reference/02-inputs.md §2).
 pub const MAX_CANT_RAD: f64 = 0.3;
 /// Largest irregularity accepted per rail (m): measured track geometry
 /// defects are millimetres (EN 13848-5 limits are tens of mm), so 0.2 m is
@@ -46,7 +46,7 @@ impl CantColumn {
         }))
     }
 
-    /// Cant angles φ (rad): heights convert by φ = asin(h / e0) (SPEC §1),
+    /// Cant angles φ (rad): heights convert by φ = asin(h / e0) (docs/reference/01-units-frames.md §1),
     /// `cant_base_m` = e0. Fails on the first value beyond ±0.3 rad or a
     /// height not smaller than e0.
     pub fn radians(&self, cant_base_m: f64) -> Result<Vec<f64>, InputError> {
@@ -178,7 +178,7 @@ const PER_RAIL: [&str; 4] = ["align_left", "align_right", "level_left", "level_r
 const MEASUREMENT_CAR: [&str; 4] = ["alignment", "gauge", "level", "cross_level"];
 
 impl IrregularityInput {
-    /// Parse an irregularity CSV in either form of SPEC §2:
+    /// Parse an irregularity CSV in either form of docs/reference/02-inputs.md §2:
     /// per rail `s, align_left, align_right, level_left, level_right`, or the
     /// measurement-car form `s, alignment, gauge, level, cross_level`, any
     /// column with an optional `_mm` suffix. The measurement-car form converts

@@ -1,5 +1,5 @@
 //! Track irregularities as cubic splines of the track distance (paper §2d,
-//! SPEC §3d).
+//! docs/reference/03-track-preproc.md §3d).
 
 use runtime::spline::{PiecewiseCubic, Scheme};
 

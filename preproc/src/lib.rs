@@ -1,5 +1,5 @@
 //! The track pre-processor of Pombo, Ambrósio & Silva (paper §2, Fig. 1;
-//! SPEC §2–4): CSV control points, cant and irregularity tables → a smooth
+//! docs/reference/02-inputs.md §2–4): CSV control points, cant and irregularity tables → a smooth
 //! centreline, two rails re-fitted by their own arc length, and dense
 //! per-rail databases written to HDF5 through [`runtime::schema`].
 //!

@@ -24,7 +24,7 @@ pub struct BuildRequest {
     pub irregularities: Option<PathBuf>,
     pub output: PathBuf,
     pub config: BuildConfig,
-    /// Build a contact lookup table too (SPEC §4) with these settings; its
+    /// Build a contact lookup table too (docs/reference/04-table-files.md §4) with these settings; its
     /// gauge, rail spacing and inclination are the track's.
     pub contact: Option<ContactTableConfig>,
     /// Recorded under `/input/command_line`.

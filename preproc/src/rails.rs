@@ -1,4 +1,4 @@
-//! The two rails (paper §2e–f, SPEC §3e–f): nodal points offset from the
+//! The two rails (paper §2e–f, docs/reference/03-track-preproc.md §3e–f): nodal points offset from the
 //! centreline by half the rail spacing along the track's lateral vector plus
 //! the irregularities, re-fitted with the chosen scheme, parameterised by
 //! each rail's own arc length L, with their own frames (cant and rail

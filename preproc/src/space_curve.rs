@@ -1,4 +1,4 @@
-//! A space curve through control points (paper §2a–b, SPEC §3a–b): x(τ),
+//! A space curve through control points (paper §2a–b, docs/reference/03-track-preproc.md §3a–b): x(τ),
 //! y(τ), z(τ) fitted with one of the spline schemes over the chord-length
 //! parameter τ, arc length s(τ) by 8-point Gauss–Legendre quadrature per
 //! piece, and the inverse τ(s) by Newton's method — so the curve can be
@@ -113,7 +113,7 @@ impl SpaceCurve {
     }
 
     /// The tangent must point along the chord everywhere in each piece;
-    /// otherwise the spline loops or doubles back (SPEC §2).
+    /// otherwise the spline loops or doubles back (docs/reference/02-inputs.md §2).
     fn check_forward(&self, points: &[[f64; 3]]) -> Result<(), CurveError> {
         for i in 0..points.len() - 1 {
             let (a, b) = (points[i], points[i + 1]);

@@ -1,4 +1,4 @@
-//! Criterion bench: one evaluation of each creep law (SPEC §7.3) for a
+//! Criterion bench: one evaluation of each creep law (docs/reference/07-contact-forces.md §7.3) for a
 //! typical tread contact (N = 80 kN, a = 6.65 mm, b = 5.0 mm — S1002-like
 //! wheel of r = 0.46 m on a 0.3 m rail head — G = 80.8 GPa, ν = 0.3,
 //! μ = 0.3, V = 30 m/s) at moderate combined creepages (ξ = 1e-3,

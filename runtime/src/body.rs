@@ -1,7 +1,7 @@
 //! 6-DOF rigid bodies: state layout, Newton–Euler equations, energies
-//! (SPEC §8).
+//! (docs/reference/08-multibody.md §8).
 //!
-//! # Frames and state (SPEC §1: global Z up, gravity −Z)
+//! # Frames and state (docs/reference/01-units-frames.md §1: global Z up, gravity −Z)
 //!
 //! A body's state is the position r of its centre of gravity (CG) in the
 //! global frame, the unit quaternion q rotating **body axes into global

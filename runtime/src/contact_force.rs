@@ -1,5 +1,5 @@
 //! Wheel–rail contact forces at one contact (paper §4.1 steps c–e, §4.4–4.7;
-//! SPEC §7): from a solved contact [`Candidate`] and the motion of the
+//! docs/reference/07-contact-forces.md §7): from a solved contact [`Candidate`] and the motion of the
 //! wheelset to the force and moment on the wheel.
 //!
 //! Pipeline (each step its own module):
@@ -7,7 +7,7 @@
 //! 1. creepages and penetration rate from the velocities at the contact
 //!    point ([`crate::creepage`]);
 //! 2. the Hertz ellipse shape from the principal relative curvatures
-//!    A = ½(κ_w,roll + κ_r,roll), B = ½(κ_w,lat + κ_r,lat) (SPEC §7.1,
+//!    A = ½(κ_w,roll + κ_r,roll), B = ½(κ_w,lat + κ_r,lat) (docs/reference/07-contact-forces.md §7.1,
 //!    [`crate::hertz`]) — non-Hertzian geometry (A ≤ 0 or B ≤ 0, or a
 //!    curvature ratio beyond the Hertz solver's range) is an error naming
 //!    the contact, never silently clamped; with
@@ -21,7 +21,7 @@
 //! The force on the wheel is N n_c + Fx t_c + Fy l_c (N, global), applied
 //! at the wheel's contact point, plus the spin moment Mz n_c (N·m); the rail
 //! receives the opposite. The track is fixed in the global frame (rail
-//! velocities zero), as in every scene of SPEC §8.
+//! velocities zero), as in every scene of docs/reference/08-multibody.md §8.
 
 use nalgebra::Vector3;
 
@@ -81,7 +81,7 @@ pub enum ContactForceError {
 /// Everything that turns contact geometry and motion into forces.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ContactForceSettings {
-    /// Elastic constants of wheel and rail (SPEC §7.1; default steel).
+    /// Elastic constants of wheel and rail (docs/reference/07-contact-forces.md §7.1; default steel).
     pub material: Material,
     /// Coefficient of friction μ (dimensionless; default 0.3, dry rail —
     /// the usual value of vehicle-dynamics studies).
@@ -96,8 +96,8 @@ pub struct ContactForceSettings {
     pub non_hertzian: NonHertzianPolicy,
 }
 
-/// What to do where the contact geometry is outside Hertz theory (SPEC
-/// §7.1): A ≤ 0 or B ≤ 0 (a conformal or concave contact: a worn wheel's
+/// What to do where the contact geometry is outside Hertz theory
+/// (`docs/reference/07-contact-forces.md` §7.1): A ≤ 0 or B ≤ 0 (a conformal or concave contact: a worn wheel's
 /// hollow tread on a rail head of about the same radius, a throat around
 /// the rail's gauge corner), or max(A, B)/min(A, B) beyond
 /// [`crate::hertz::MAX_CURVATURE_RATIO`].
@@ -232,7 +232,7 @@ impl WheelsetMotion {
     /// A wheelset at `centre_m` moving at `speed_m_s` along `forward`
     /// (unit), rolling without slip on wheels of radius `radius_m` about the
     /// axle `axle` (unit, pointing left): ω = (V/r₀) η, which makes the
-    /// bottom point of a wheel of radius r₀ still (SPEC §1 frames).
+    /// bottom point of a wheel of radius r₀ still (docs/reference/01-units-frames.md §1 frames).
     pub fn rolling(
         centre_m: Vector3<f64>,
         forward: Vector3<f64>,
@@ -250,7 +250,7 @@ impl WheelsetMotion {
 }
 
 /// Principal relative curvatures (A rolling, B lateral) of a contact (1/m),
-/// SPEC §7.1: A = ½(κ_w,roll + κ_r,roll), B = ½(κ_w,lat + κ_r,lat).
+/// docs/reference/07-contact-forces.md §7.1: A = ½(κ_w,roll + κ_r,roll), B = ½(κ_w,lat + κ_r,lat).
 pub fn relative_curvatures_1_m(c: &Candidate) -> (f64, f64) {
     let k = &c.curvatures;
     (
@@ -259,7 +259,7 @@ pub fn relative_curvatures_1_m(c: &Candidate) -> (f64, f64) {
     )
 }
 
-/// The Hertz ellipse shape of a contact (SPEC §7.1); non-Hertzian geometry
+/// The Hertz ellipse shape of a contact (docs/reference/07-contact-forces.md §7.1); non-Hertzian geometry
 /// is an error naming the contact.
 pub fn hertz_shape(c: &Candidate) -> Result<HertzShape, ContactForceError> {
     let (a, b) = relative_curvatures_1_m(c);

@@ -1,4 +1,4 @@
-//! The contact lookup table in memory (SPEC §4, §7.4): quasi-static contact
+//! The contact lookup table in memory (docs/reference/04-table-files.md §4, §7.4): quasi-static contact
 //! geometry of a wheelset on straight track, tabulated against its lateral
 //! shift y (and optionally its yaw), for one wheel/rail profile pair. Built
 //! by the pre-processor, read and written by [`crate::schema`], and
@@ -26,7 +26,7 @@ pub struct ZoneEntry {
     pub contact_angle_rad: f64,
     /// Penetration δ (m); negative = gap.
     pub penetration_m: f64,
-    /// Principal curvatures (1/m), SPEC §7.1 sign rule (convex positive).
+    /// Principal curvatures (1/m), docs/reference/07-contact-forces.md §7.1 sign rule (convex positive).
     pub wheel_rolling_curvature_1_m: f64,
     pub wheel_lateral_curvature_1_m: f64,
     pub rail_rolling_curvature_1_m: f64,

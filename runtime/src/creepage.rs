@@ -1,4 +1,4 @@
-//! Creepages of one wheel–rail contact in its contact frame (SPEC §7.3,
+//! Creepages of one wheel–rail contact in its contact frame (docs/reference/07-contact-forces.md §7.3,
 //! paper §4.5–4.7; Kalker's definitions).
 //!
 //! # Definitions
@@ -9,13 +9,13 @@
 //! φ = (ω_w − ω_r)·n_c / V      spin creepage (1/m)
 //! ```
 //!
-//! (SPEC §7.3; Kalker, *Three-dimensional elastic bodies in rolling
+//! (docs/reference/07-contact-forces.md §7.3; Kalker, *Three-dimensional elastic bodies in rolling
 //! contact*, 1990: the rigid slip of the wheel over the rail divided by
 //! the rolling speed.) v_w, v_r: velocities (m/s, global) of the wheel and
 //! rail **material points** at the contact ([`material_point_velocity_m_s`]);
 //! ω_w, ω_r: angular velocities (rad/s, global) of the wheel and rail bodies
 //! (ω_r = 0 for a track fixed in the global frame); the contact frame
-//! (SPEC §1): n_c unit normal from the rail into the wheel, t_c the rolling
+//! (docs/reference/01-units-frames.md §1): n_c unit normal from the rail into the wheel, t_c the rolling
 //! direction (the rail tangent projected ⟂ n_c), l_c = n_c × t_c. Creepages
 //! are wheel minus rail, so a creep law's forces on the wheel oppose them
 //! ([`crate::creep`]).
@@ -75,11 +75,11 @@
 //! rolling along +t_c: for rolling along −t_c the exact treatment expresses
 //! the creepages in the turned frame (−t_c, −l_c, n_c), i.e. uses
 //! (−ξ, −η, φ) and maps the forces back, which flips the sign of the c23
-//! coupling. This module does not do it (the frame is geometric, SPEC §1);
+//! coupling. This module does not do it (the frame is geometric, docs/reference/01-units-frames.md §1);
 //! the scenes only run forwards. [`Creepages::running_backwards`] flags
 //! the case.
 //!
-//! # Signs on a wheelset (SPEC §1: global Z up, track n to the left)
+//! # Signs on a wheelset (docs/reference/01-units-frames.md §1: global Z up, track n to the left)
 //!
 //! For a wheelset running along +X at speed V, spin Ω about its axle (+Y
 //! when rolling forwards, Ω = V/r0), lateral velocity ẏ (+ left), yaw ψ
@@ -153,7 +153,7 @@ pub enum CreepageError {
     InvalidMinRollingSpeed { min_rolling_speed_m_s: f64 },
 }
 
-/// Contact frame at a contact point (SPEC §1), unit vectors in global
+/// Contact frame at a contact point (docs/reference/01-units-frames.md §1), unit vectors in global
 /// coordinates: the same vectors as `contact::Candidate::{tangent, lateral,
 /// normal}`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -167,7 +167,7 @@ pub struct ContactFrame {
 }
 
 impl ContactFrame {
-    /// Builds the frame of SPEC §1 from the contact normal n (rail into
+    /// Builds the frame of docs/reference/01-units-frames.md §1 from the contact normal n (rail into
     /// wheel) and the rail tangent (direction of increasing s); neither needs
     /// to be unit: n_c = n/|n|, t_c = (t − (t·n_c) n_c)/|…|, l_c = n_c × t_c.
     pub fn from_normal_and_rail_tangent(
@@ -245,7 +245,7 @@ pub struct CreepageInput {
     pub wheel_angular_velocity_rad_s: Vector3<f64>,
     /// Angular velocity of the rail (rad/s); zero for a fixed track.
     pub rail_angular_velocity_rad_s: Vector3<f64>,
-    /// Contact frame (SPEC §1).
+    /// Contact frame (docs/reference/01-units-frames.md §1).
     pub frame: ContactFrame,
     /// The wheelset's forward speed V (m/s): the velocity of the wheelset
     /// centre projected on the track tangent t(s); negative when running
@@ -327,7 +327,7 @@ impl CreepageOptions {
 
     /// Creepages and slip velocities of one contact (module docs): ξ, η =
     /// (v_w − v_r)·(t_c, l_c)/V_eff, φ = (ω_w − ω_r)·n_c/V_eff, V_eff =
-    /// max(|V|, v_min) (SPEC §7.3). Validates every input.
+    /// max(|V|, v_min) (docs/reference/07-contact-forces.md §7.3). Validates every input.
     pub fn creepages(&self, input: &CreepageInput) -> Result<Creepages, CreepageError> {
         self.validate()?;
         check_finite(
@@ -351,7 +351,7 @@ impl CreepageOptions {
         }
         input.frame.validate()?;
         let f = &input.frame;
-        // Slip of the wheel over the rail (SPEC §7.3 numerators).
+        // Slip of the wheel over the rail (docs/reference/07-contact-forces.md §7.3 numerators).
         let dv = input.wheel_point_velocity_m_s - input.rail_point_velocity_m_s;
         let dw = input.wheel_angular_velocity_rad_s - input.rail_angular_velocity_rad_s;
         let slip = SlipVelocities {

@@ -1,4 +1,4 @@
-//! Linear spring–damper suspension elements between two anchors (SPEC §8).
+//! Linear spring–damper suspension elements between two anchors (docs/reference/08-multibody.md §8).
 //!
 //! # Anchors
 //!

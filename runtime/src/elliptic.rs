@@ -12,7 +12,7 @@
 //! K(m) = ∫₀^{π/2} dθ / √(1 − m sin²θ),    E(m) = ∫₀^{π/2} √(1 − m sin²θ) dθ.
 //! ```
 //!
-//! (In the Hertz problem, SPEC §7.1, the "K(e), E(e)" of the eccentricity e are
+//! (In the Hertz problem, docs/reference/07-contact-forces.md §7.1, the "K(e), E(e)" of the eccentricity e are
 //! K and E of the parameter m = e².)
 //!
 //! # Domain

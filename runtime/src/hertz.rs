@@ -1,20 +1,20 @@
-//! Hertz contact ellipse, approach and normal stiffness (SPEC §7.1).
+//! Hertz contact ellipse, approach and normal stiffness (docs/reference/07-contact-forces.md §7.1).
 //!
 //! # Inputs and conventions
 //!
 //! - `A` (rolling direction) and `B` (lateral), the principal **relative
-//!   curvatures** (1/m) of the two bodies at the contact point, SPEC §7.1:
+//!   curvatures** (1/m) of the two bodies at the contact point, docs/reference/07-contact-forces.md §7.1:
 //!   A = ½(κ_w,roll + κ_r,roll), B = ½(κ_w,lat + κ_r,lat) (so a sphere of
 //!   radius R on a plane has A = B = 1/(2R)). Hertz theory needs A > 0 and
 //!   B > 0; A ≤ 0 or B ≤ 0 (conformal or concave contact) is reported as
 //!   [`HertzError::NonHertzian`], never clamped.
 //! - [`Material`]: Young's modulus (Pa) and Poisson's ratio, the **same for
 //!   both bodies** (wheel and rail steel), which is what the formulas of
-//!   SPEC §7.1 assume (1/E* = (1 − ν₁²)/E₁ + (1 − ν₂²)/E₂ = 2(1 − ν²)/E,
+//!   docs/reference/07-contact-forces.md §7.1 assume (1/E* = (1 − ν₁²)/E₁ + (1 − ν₂²)/E₂ = 2(1 − ν²)/E,
 //!   Johnson 1985 §4.2, with equal materials).
 //! - The normal force N (N) for the semi-axes and the approach.
 //!
-//! # Formulas (SPEC §7.1; Johnson, *Contact Mechanics*, 1985, §4.2)
+//! # Formulas (docs/reference/07-contact-forces.md §7.1; Johnson, *Contact Mechanics*, 1985, §4.2)
 //!
 //! ```text
 //! θ = acos(|B − A| / (A + B))
@@ -94,7 +94,7 @@ pub enum HertzError {
     )]
     NonFiniteCurvature { a_curv_1_m: f64, b_curv_1_m: f64 },
     /// A ≤ 0 or B ≤ 0: conformal or concave contact, outside Hertz theory
-    /// (SPEC §7.1: reported, not clamped).
+    /// (docs/reference/07-contact-forces.md §7.1: reported, not clamped).
     #[error(
         "non-Hertzian contact geometry: relative curvatures A = {a_curv_1_m} 1/m (rolling) and B = {b_curv_1_m} 1/m (lateral) must both be > 0 (conformal or concave contact)"
     )]
@@ -129,7 +129,7 @@ pub enum HertzError {
     },
 }
 
-/// Elastic constants of wheel and rail (both bodies the same, SPEC §7.1).
+/// Elastic constants of wheel and rail (both bodies the same, docs/reference/07-contact-forces.md §7.1).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Material {
     /// Young's modulus E (Pa).
@@ -139,7 +139,7 @@ pub struct Material {
 }
 
 impl Default for Material {
-    /// Steel, SPEC §7.1: E = 210 GPa, ν = 0.3.
+    /// Steel, docs/reference/07-contact-forces.md §7.1: E = 210 GPa, ν = 0.3.
     fn default() -> Self {
         Material {
             young_pa: 210e9,
@@ -149,7 +149,7 @@ impl Default for Material {
 }
 
 impl Material {
-    /// Shear modulus G = E / (2(1 + ν)) (Pa), SPEC §7.1 (isotropic
+    /// Shear modulus G = E / (2(1 + ν)) (Pa), docs/reference/07-contact-forces.md §7.1 (isotropic
     /// elasticity).
     pub fn shear_modulus_pa(&self) -> f64 {
         self.young_pa / (2.0 * (1.0 + self.poisson))
@@ -191,8 +191,8 @@ pub enum MajorAxis {
     Circular,
 }
 
-/// The shape of the Hertz ellipse for given relative curvatures A, B (SPEC
-/// §7.1): everything that does not depend on the force or the material,
+/// The shape of the Hertz ellipse for given relative curvatures A, B
+/// (`docs/reference/07-contact-forces.md` §7.1): everything that does not depend on the force or the material,
 /// computed once by [`HertzShape::new`] (≈ 0.16 µs, no allocation). Fields are
 /// private so that a shape is always a solved one; read them by the methods.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -326,7 +326,7 @@ impl HertzShape {
             k_first,
             e_second,
         } = solve_u(s, ratio)?;
-        // SPEC §7.1: m = (2E/(π(1 − e²)))^(1/3), n = m√(1 − e²), r = 2K/(π m).
+        // docs/reference/07-contact-forces.md §7.1: m = (2E/(π(1 − e²)))^(1/3), n = m√(1 − e²), r = 2K/(π m).
         let m_coef = (2.0 * e_second / (PI * one_minus_e_sq)).cbrt();
         let n_coef = m_coef * one_minus_e_sq.sqrt();
         let r_coef = 2.0 * k_first / (PI * m_coef);
@@ -353,7 +353,7 @@ impl HertzShape {
         self.b_curv_1_m
     }
     /// θ = acos(|B − A|/(A + B)) (rad), in (0, π/2]; π/2 for the circle
-    /// (SPEC §7.1). Evaluated as the identical 2·atan(√(min/max)) (with
+    /// (docs/reference/07-contact-forces.md §7.1). Evaluated as the identical 2·atan(√(min/max)) (with
     /// q = min/max, cos θ = (1 − q)/(1 + q), so tan²(θ/2) = q), which keeps
     /// full precision for small θ, where acos of a rounded argument near 1
     /// loses half the digits. Computed on request (no other output needs it).
@@ -406,7 +406,7 @@ impl HertzShape {
     }
 
     /// Hertz normal stiffness K_H = 2E / (3(1 − ν²) r^1.5 √(A + B))
-    /// (N/m^1.5), so that N = K_H δ^1.5 (SPEC §7.1). Hot path: the material
+    /// (N/m^1.5), so that N = K_H δ^1.5 (docs/reference/07-contact-forces.md §7.1). Hot path: the material
     /// is not validated here (see [`Material::validate`], [`HertzContact`]).
     #[inline]
     pub fn stiffness_n_m15(&self, material: &Material) -> f64 {
@@ -416,7 +416,7 @@ impl HertzShape {
 
     /// Semi-axes (a along the rolling direction, b lateral) (m) for the normal
     /// force N (N): major = m c, minor = n c, c = [3N(1 − ν²)/(2E(A + B))]^(1/3)
-    /// (SPEC §7.1). Hot path: N ≥ 0 and the material are not checked (a
+    /// (docs/reference/07-contact-forces.md §7.1). Hot path: N ≥ 0 and the material are not checked (a
     /// negative N gives negative semi-axes; use [`HertzContact::new`] for
     /// checked input).
     #[inline]
@@ -431,7 +431,7 @@ impl HertzShape {
     }
 
     /// Normal approach δ (m) of the two bodies under N (N):
-    /// δ = r [(1.5(1 − ν²)/E)² (A + B) N²]^(1/3) (SPEC §7.1; for the sphere
+    /// δ = r [(1.5(1 − ν²)/E)² (A + B) N²]^(1/3) (docs/reference/07-contact-forces.md §7.1; for the sphere
     /// it is Johnson's δ = a²/R, 1985 §4.2). Hot path: inputs not checked
     /// (N² makes the sign of N irrelevant here).
     #[inline]
@@ -513,7 +513,7 @@ fn solve_u(s: f64, ratio: f64) -> Result<Solved, HertzError> {
 }
 
 /// One Hertz contact solved for a normal force: the shape and everything
-/// that depends on N and the material (SPEC §7.1). Plain output data.
+/// that depends on N and the material (docs/reference/07-contact-forces.md §7.1). Plain output data.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HertzContact {
     /// Shape of the ellipse (e, m, n, r, θ, major axis).
@@ -575,7 +575,7 @@ mod tests {
         ((a - b) / b).abs()
     }
 
-    /// Sphere of radius R on a plane: A = B = 1/(2R) (SPEC §7.1). Johnson
+    /// Sphere of radius R on a plane: A = B = 1/(2R) (docs/reference/07-contact-forces.md §7.1). Johnson
     /// 1985 §4.2: a = (3NR/(4E*))^(1/3), δ = a²/R, N = (4/3) E* √R δ^1.5,
     /// 1/E* = 2(1 − ν²)/E.
     #[test]
@@ -634,7 +634,7 @@ mod tests {
         }
     }
 
-    /// The solution satisfies the ratio equation of SPEC §7.1 when K, E are
+    /// The solution satisfies the ratio equation of docs/reference/07-contact-forces.md §7.1 when K, E are
     /// recomputed independently with `ellipke_m(e²)` (for ratios where the
     /// naive formula is well conditioned).
     #[test]
@@ -701,7 +701,7 @@ mod tests {
     }
 
     /// The shape depends only on B/A: scaling both curvatures by λ keeps
-    /// e, m, n, r (the semi-axes scale as λ^(−1/3), SPEC §7.1 c ∝ (A+B)^(−1/3)).
+    /// e, m, n, r (the semi-axes scale as λ^(−1/3), docs/reference/07-contact-forces.md §7.1 c ∝ (A+B)^(−1/3)).
     #[test]
     fn shape_depends_on_the_ratio_only() {
         let mat = Material::default();
@@ -777,7 +777,7 @@ mod tests {
         // A = 3B: |B − A|/(A + B) = 1/2, θ = 60°.
         let s = HertzShape::new(3.0, 1.0).unwrap();
         assert!((s.theta_rad() - PI / 3.0).abs() < 1e-15);
-        // The SPEC form itself, where it is well conditioned.
+        // The reference form (docs/reference/07-contact-forces.md §7.1) itself, where it is well conditioned.
         for (a, b) in [(1.0, 1.5), (2.0, 0.3), (0.7, 9.0)] {
             let theta = HertzShape::new(a, b).unwrap().theta_rad();
             let spec = (f64::abs(b - a) / (a + b)).acos();

@@ -8,7 +8,7 @@
 //!
 //! # Which wheel a row describes, and the mirror
 //!
-//! The rows describe the **left** wheel (SPEC §1: y positive to the left).
+//! The rows describe the **left** wheel (docs/reference/01-units-frames.md §1: y positive to the left).
 //! In the shipped DYTSI table the left wheel's flange approaches its rail
 //! as y grows — the contact angle rises from 0.014 rad at y = 0 to 0.57 rad
 //! at y = +17 mm and the rolling radius from 0.4249 to 0.4508 m, while at

@@ -1,5 +1,6 @@
 //! Run-time library of the wheel–rail contact toolkit (Pombo, Ambrósio &
-//! Silva; see `SPEC.md` at the project's root).
+//! Silva; the equations, units, frames and file formats are in the
+//! repository's `docs/reference/`).
 //!
 //! Math modules take plain structs and return plain structs; only the
 //! modules of the `io` feature (on by default) touch files: [`schema`]
@@ -10,7 +11,7 @@
 //! without HDF5.
 //!
 //! Units: SI throughout (m, s, kg, N, rad). Global frame Z up; track frame
-//! `t` tangent, `n` lateral pointing left, `b = t × n` up (SPEC §1).
+//! `t` tangent, `n` lateral pointing left, `b = t × n` up (docs/reference/01-units-frames.md §1).
 
 pub mod profile;
 pub mod quadrature;

@@ -1,5 +1,5 @@
 //! Normal contact force: Hertz with Lankarani–Nikravesh hysteresis damping
-//! (paper §4.4, eq. 22, Fig. 12; SPEC §7.2).
+//! (paper §4.4, eq. 22, Fig. 12; docs/reference/07-contact-forces.md §7.2).
 //!
 //! # The law
 //!
@@ -8,7 +8,7 @@
 //! ```
 //!
 //! - K: Hertz stiffness (N/m^1.5), computed by
-//!   [`crate::hertz::HertzShape::stiffness_n_m15`] (SPEC §7.1); an input here.
+//!   [`crate::hertz::HertzShape::stiffness_n_m15`] (docs/reference/07-contact-forces.md §7.1); an input here.
 //! - δ: penetration (m), > 0 in contact (the contact search's
 //!   `penetration_m`, δ = −dᵀn_c, paper eq. 20–21).
 //! - δ̇: penetration rate (m/s), > 0 while the bodies approach; the normal
@@ -19,7 +19,7 @@
 //! - e: coefficient of restitution (dimensionless), in (0, 1].
 //! - δ̇⁽⁻⁾: penetration rate at impact (m/s), the reference velocity.
 //!
-//! The exponent 1.5 is Hertz's (metal to metal, paper eq. 22, SPEC §7.1).
+//! The exponent 1.5 is Hertz's (metal to metal, paper eq. 22, docs/reference/07-contact-forces.md §7.1).
 //! The damping term is Lankarani & Nikravesh's hysteresis damping (H. M.
 //! Lankarani, P. E. Nikravesh, "A contact force model with hysteresis damping
 //! for impact analysis of multibody systems", J. Mech. Des. 112 (1990)
@@ -373,7 +373,7 @@ impl NormalForceModel {
         };
         // Rule 3: floor on the reference velocity (≥ v_floor > 0).
         let ratio = rate / reference_m_s.max(floor);
-        // Hertz: K δ^1.5 (paper eq. 22, SPEC §7.1), δ^1.5 = δ √δ.
+        // Hertz: K δ^1.5 (paper eq. 22, docs/reference/07-contact-forces.md §7.1), δ^1.5 = δ √δ.
         let elastic_n = stiffness_n_m15 * penetration_m * penetration_m.sqrt();
         // Lankarani–Nikravesh hysteresis damping (paper eq. 22; 1990).
         let damping_raw_n = elastic_n * self.hysteresis_factor() * ratio;
@@ -406,7 +406,7 @@ impl NormalForceModel {
 /// `wheel_point_velocity_m_s` and `rail_point_velocity_m_s` are the
 /// velocities (m/s, global) of the wheel and rail material points at the
 /// contact (see [`crate::creepage::material_point_velocity_m_s`]); `normal`
-/// is n_c (unit, from the rail into the wheel, SPEC §1). It is the time
+/// is n_c (unit, from the rail into the wheel, docs/reference/01-units-frames.md §1). It is the time
 /// derivative of δ = −dᵀn_c (d = r_w − r_r): the term −dᵀṅ_c vanishes since
 /// d ∥ n_c at the contact and ṅ_c ⟂ n_c, and the contact points' motion over
 /// the surfaces is tangent, ⟂ n_c.

@@ -1,4 +1,4 @@
-//! `runtime::body` and `runtime::element` integrated in time (SPEC §8)
+//! `runtime::body` and `runtime::element` integrated in time (docs/reference/08-multibody.md §8)
 //! against closed-form solutions and conservation laws.
 //!
 //! The integrator is the classical fixed-step RK4, written here (the crate's

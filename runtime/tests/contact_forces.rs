@@ -130,7 +130,7 @@ fn yawed_wheelset_lateral_creepage_and_force_direction() {
 /// so its contact point moves backwards over the rail, ξ = (r₀ − r)/r₀ < 0
 /// (Wickens 2003 eq. 2.10), and the creep force pushes it forwards; the
 /// right wheel the opposite. Spin φ = −sin γ / r₀ on the left tread and
-/// +sin γ / r₀ on the right (SPEC §1 frames, `runtime::creepage`).
+/// +sin γ / r₀ on the right (docs/reference/01-units-frames.md §1 frames, `runtime::creepage`).
 #[test]
 fn shifted_wheelset_longitudinal_creepage_and_spin() {
     let case = Case::new();

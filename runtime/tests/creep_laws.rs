@@ -1,4 +1,4 @@
-//! Cross-law checks of the creep laws through the public API (SPEC §7.3):
+//! Cross-law checks of the creep laws through the public API (docs/reference/07-contact-forces.md §7.3):
 //! small-creepage limits against Kalker's linear law, Polach's 2005 initial
 //! slope, saturation |F| ≤ μN, odd symmetry, slip-velocity dependent friction
 //! and the shape of the creep curves.

@@ -1,4 +1,4 @@
-//! Energy bookkeeping of the dynamic simulation (SPEC §8, issue 5): with
+//! Energy bookkeeping of the dynamic simulation (docs/reference/08-multibody.md §8, issue 5): with
 //! restitution 1 (no hysteresis damping), no creep forces and no dampers
 //! the vehicle is conservative, so its mechanical energy — kinetic energy
 //! of every body (spin included), gravitational potential, and the Hertz

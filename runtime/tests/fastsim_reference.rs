@@ -14,7 +14,7 @@
 //!   case with large spin ([`contact_user_guide_spin_case`]).
 //! - O. Polach, "A fast wheel–rail forces calculation computer code",
 //!   *Vehicle System Dynamics* 33 Suppl. (1999) 728–739: the creep-force
-//!   formula of SPEC §7.3, which is the continuum limit of FASTSIM with the
+//!   formula of docs/reference/07-contact-forces.md §7.3, which is the continuum limit of FASTSIM with the
 //!   ellipsoidal bound for pure creepage (derivation below).
 //!
 //! # Closed forms of the continuum model (pure longitudinal creepage)
@@ -34,7 +34,7 @@
 //!   F/μN = (2/π) [atan r + r/(1 + r²)],   r = π G a b C11 |ξ| / (4 μ N)
 //!   ```
 //!
-//!   which is Polach's (1999) formula with k_A = k_S = 1 (SPEC §7.3).
+//!   which is Polach's (1999) formula with k_A = k_S = 1 (docs/reference/07-contact-forces.md §7.3).
 //! - **Parabolic bound** g = μ p̂ (1 − y²/b²)(1 − x²/a_y²), p̂ = 2N/(πab).
 //!   A strip carries the fraction 1 − (1 − u/√(1 − s²))³ of its sliding
 //!   force (s = y/b, fully sliding where u ≥ √(1 − s²)), with
@@ -249,7 +249,7 @@ fn spin_moment_ratios(a: f64, b: f64) -> (f64, f64) {
 }
 
 /// Small creepages: Fx and Fy tend to Kalker's linear law (same signs,
-/// SPEC §7.3), the spin moment to R_η·(Kalker) and R_φ·(Kalker), which are
+/// docs/reference/07-contact-forces.md §7.3), the spin moment to R_η·(Kalker) and R_φ·(Kalker), which are
 /// reported (FASTSIM's spin moment is not Kalker's C33 by construction).
 #[test]
 fn small_creepage_limit_is_kalker_linear() {
@@ -306,7 +306,7 @@ fn small_creepage_limit_is_kalker_linear() {
 /// a = 8 mm, b = 4 mm, N = 82 kN, G = 82 000 N/mm², ν = 0.28, μ = 0.3,
 /// ξ = 0, η = −0.000625, φ = 0.000625 rad/mm, rolling in +x (CONTACT's rigid
 /// slip (ξ − φy, η + φx) and forces on the upper body, the wheel: the
-/// conventions of SPEC §1). Published Fy/(μN): **−0.61** for the exact
+/// conventions of docs/reference/01-units-frames.md §1). Published Fy/(μN): **−0.61** for the exact
 /// theory (CONTACT, 40 × 40 elements), **−0.64** for FASTSIM with the
 /// parabolic bound and **−0.60** with the ellipsoidal bound (CONTACT's
 /// FASTSIM, three flexibilities, on CONTACT's 40 × 40 or 200 × 200 grid: the

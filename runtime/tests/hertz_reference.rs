@@ -1,4 +1,4 @@
-//! `runtime::elliptic` and `runtime::hertz` (SPEC §7.1) against SciPy and
+//! `runtime::elliptic` and `runtime::hertz` (docs/reference/07-contact-forces.md §7.1) against SciPy and
 //! mpmath.
 //!
 //! The reference values in `tests/data/hertz_reference.json` are produced by

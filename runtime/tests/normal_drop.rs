@@ -1,5 +1,5 @@
 //! Drop tests of the Hertz + Lankarani–Nikravesh normal force
-//! (`runtime::normal`, paper eq. 22, SPEC §7.2).
+//! (`runtime::normal`, paper eq. 22, docs/reference/07-contact-forces.md §7.2).
 //!
 //! A rigid mass m = 1000 kg (about a quarter of a loaded wheelset's share of
 //! a vehicle) falls on a rail with a Hertz contact of a wheel of radius

@@ -234,7 +234,7 @@ pub struct RunArgs {
     pub quiet: bool,
     /// Model only what the scene requires: the planner chooses the flange
     /// search, contact method, table step and track range wherever the
-    /// scene leaves them out (= --set plan.mode=required; README "Only what
+    /// scene leaves them out (= --set plan.mode=required; docs/guide/speed-accuracy-tradeoff.md "Only what
     /// the scene requires").
     #[arg(long, conflicts_with = "model_everything")]
     pub plan: bool,

@@ -1,6 +1,6 @@
 //! Scene files (`tables/scenes/*.toml`): everything one run needs — the
 //! track, the vehicle, the contact and force models, the initial
-//! conditions, the run length and the integrator (SPEC §8). Paths are
+//! conditions, the run length and the integrator (docs/reference/08-multibody.md §8). Paths are
 //! relative to the scene file. `--set key=value` overrides any entry
 //! (dotted keys, TOML values; a bare word is taken as a string), so a
 //! sweep is one scene and a list of overrides.

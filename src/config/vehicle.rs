@@ -1,6 +1,6 @@
 //! Vehicle files (`tables/vehicles/*.toml`): a vehicle is data — its
 //! bodies, wheelsets, track-following references and suspension elements —
-//! so a full car is a file, not code (SPEC §8).
+//! so a full car is a file, not code (docs/reference/08-multibody.md §8).
 //!
 //! # Coordinates
 //!
@@ -8,7 +8,7 @@
 //! standing centred on straight, level track, in the vehicle's reference
 //! frame — origin on the track centreline in the plane of the rail tops
 //! under the vehicle's reference point, x forward (direction of travel),
-//! y to the left, z up (SPEC §1). A wheelset's height is not given: it is
+//! y to the left, z up (docs/reference/01-units-frames.md §1). A wheelset's height is not given: it is
 //! settled on the rails under its static load before the run.
 //!
 //! # Format
@@ -103,7 +103,7 @@ pub struct ReferenceEntry {
     pub origin_m: [f64; 3],
 }
 
-/// A linear spring–damper (SPEC §8).
+/// A linear spring–damper (docs/reference/08-multibody.md §8).
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ElementEntry {
@@ -164,7 +164,7 @@ pub struct VehicleFile {
 /// Name of the fixed ground, usable as an element end.
 pub const GROUND: &str = "ground";
 
-/// Standard gravity (m/s²), SPEC §1.
+/// Standard gravity (m/s²), docs/reference/01-units-frames.md §1.
 pub const GRAVITY_M_S2: f64 = 9.81;
 
 impl VehicleFile {

@@ -124,7 +124,7 @@ impl OdeSystem for Watched<'_, '_> {
     }
 }
 
-/// Where a wheelset is relative to the track at one state (SPEC §1 signs).
+/// Where a wheelset is relative to the track at one state (docs/reference/01-units-frames.md §1 signs).
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct WheelsetState {
     pub name: String,

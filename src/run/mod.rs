@@ -1,5 +1,5 @@
 //! A run: a scene (with its plan) integrated in time to results in memory
-//! and a summary (SPEC §8); the caller writes them
+//! and a summary (docs/reference/08-multibody.md §8); the caller writes them
 //! (the report layer). The track tables (and, with
 //! `method = "table"`, the contact lookup tables) are built on demand and
 //! cached ([`crate::session::cache`]); the vehicle file becomes a

@@ -9,7 +9,7 @@
 //!
 //! Our table stores curvatures, not semi-axes: a and b are computed with
 //! [`HertzContact`] from the main contact's principal relative curvatures
-//! (SPEC §7.1) at the **imported table's N0(y)**, with our table's E and ν,
+//! (docs/reference/07-contact-forces.md §7.1) at the **imported table's N0(y)**, with our table's E and ν,
 //! so that the two ellipses are compared at the same load and differ only by
 //! the geometry (and the material). The main contact of a wheel is its zone
 //! with the larger normal force (elastic table) or penetration (rigid).

@@ -68,7 +68,7 @@ pub struct ContactReport {
     /// null when there is no force (rigid) or the geometry is not Hertzian.
     pub a_m: Option<f64>,
     pub b_m: Option<f64>,
-    /// Creepages (SPEC §7.3): longitudinal, lateral (dimensionless), spin
+    /// Creepages (docs/reference/07-contact-forces.md §7.3): longitudinal, lateral (dimensionless), spin
     /// (1/m); wheel minus rail slip over the rolling speed.
     pub xi: Option<f64>,
     pub eta: Option<f64>,

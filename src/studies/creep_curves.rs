@@ -38,7 +38,7 @@ pub struct CreepCurveConfig {
 impl CreepCurveConfig {
     /// The ellipse of a wheel of rolling radius `wheel_radius_m` on a rail
     /// head of radius `rail_head_radius_m` (crossed cylinders; A = 1/(2 r_w),
-    /// B = 1/(2 r_rail), SPEC §7.1) at normal force `normal_force_n`.
+    /// B = 1/(2 r_rail), docs/reference/07-contact-forces.md §7.1) at normal force `normal_force_n`.
     pub fn from_radii(
         normal_force_n: f64,
         wheel_radius_m: f64,

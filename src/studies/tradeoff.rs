@@ -57,7 +57,7 @@ use crate::studies::critical_speed::{CriticalSpeedSettings, growth_rate, time_do
 /// The reference run: finest table step, online contact with the flange
 /// always searched, RK4 at 0.1 ms. Measured on the bogie at 84 m/s over
 /// 100 m: within 1.3e-10 m of RK4 at 0.02 ms and of DOPRI5 at rtol 1e-10
-/// (README), so converged far below any variant's error; DOPRI5 at rtol 1e-9
+/// (`docs/guide/speed-accuracy-tradeoff.md`), so converged far below any variant's error; DOPRI5 at rtol 1e-9
 /// is no more accurate and no faster.
 pub const REFERENCE_OVERRIDES: [&str; 5] = [
     "track.step_m=0.01",
@@ -68,7 +68,7 @@ pub const REFERENCE_OVERRIDES: [&str; 5] = [
 ];
 
 /// Largest DOPRI5 step of the dopri5 variants (s): DOPRI5 is limited by
-/// stability near 1.2 ms on the bogie (README), 2 ms lets it choose.
+/// stability near 1.2 ms on the bogie (`docs/guide/performance.md`), 2 ms lets it choose.
 pub const DOPRI5_MAX_STEP_S: f64 = 2e-3;
 
 /// Run length of `--quick` (m) unless the scene's length is overridden.

@@ -9,7 +9,7 @@ resolved relative to this file):
 Python 3.11 standard library only.  The output is deterministic: rerunning
 rewrites byte-identical files (seeded `random.Random`, fixed formats).
 
-Files written (formats: /work/shared/SPEC.md sections 1-2):
+Files written (formats: docs/reference/01-units-frames.md and 02-inputs.md):
 
   straight_300m/centerline.csv      300 m straight along +X, points every 1 m
   curve_r300/centerline.csv         left-hand curve, R = 300 m, clothoid
@@ -18,7 +18,7 @@ Files written (formats: /work/shared/SPEC.md sections 1-2):
   irregular_300m/irregularities.csv per-rail irregularities (mm), every
                                     0.25 m, FRA class 6 PSD, 3-70 m band
 
-Conventions (SPEC.md section 1): global X, Y horizontal, Z up; left/right as
+Conventions (docs/reference/01-units-frames.md): global X, Y horizontal, Z up; left/right as
 seen facing increasing s; cant > 0 raises the LEFT rail; alignment > 0 moves a
 rail to the left (along the track's lateral vector n), level > 0 moves it up.
 
@@ -108,7 +108,7 @@ L_STRAIGHT = 50.0  # each straight [m]
 L_CLOTHOID = 60.0  # each clothoid [m]
 L_ARC = 150.0      # circular arc [m]
 CANT_MM = -100.0   # cant on the arc [mm]; negative = RIGHT rail higher
-E0 = 1.5           # nominal contact-point distance [m] (SPEC.md section 1)
+E0 = 1.5           # nominal contact-point distance [m] (docs/reference/01-units-frames.md)
 
 # Elements: (name, length [m], control-point spacing [m]).
 ELEMENTS = [
@@ -289,7 +289,7 @@ def write_curve():
         "origin heading +X, turns LEFT (counter-clockwise seen from +Z).",
         "Control points: every 5 m on straights, 2 m on clothoids, 3 m on the "
         "arc; element boundaries included exactly.",
-        "cant_mm = cant height [mm], SPEC sign: positive = LEFT rail higher. "
+        "cant_mm = cant height [mm], sign of docs/reference/01-units-frames.md: positive = LEFT rail higher. "
         "The curve turns left, so the OUTER rail is the RIGHT rail and",
         f"it is raised: cant_mm = 0 on straights, linear 0 -> {CANT_MM:.0f} "
         f"along each clothoid, {CANT_MM:.0f} on the arc "

@@ -11,7 +11,7 @@
 //! - no panic, and a results record whose every value is finite except
 //!   where the schema writes NaN for "no contact" ([`check_record`]);
 //! - the physics it exercises (force balance, sign rules, energy,
-//!   restitution, Hertz scaling), with the figures in README "Extremes:
+//!   restitution, Hertz scaling), with the figures in docs/guide/extremes-and-diagnostics.md "Extremes:
 //!   contact";
 //! - where the model leaves its validity, a run that stops cleanly with its
 //!   results written and an error naming the time, the wheelset, wheel and
@@ -456,7 +456,7 @@ fn contact_wheel_drop_loses_and_regains_contact() {
             assert!((0.97..1.02).contains(&ratio), "{ratio}");
         } else {
             assert!(damping > 0.0 && e1 < e0);
-            // The hysteresis model's rebound at e = 0.9 (README: 0.913).
+            // The hysteresis model's rebound at e = 0.9 (docs/guide/creep-curves.md: 0.913).
             assert!((0.86..0.95).contains(&ratio), "{ratio}");
         }
     }
@@ -823,7 +823,7 @@ fn contact_nearly_conformal_worn_tread() {
 #[test]
 fn contact_soft_and_stiff_materials() {
     let dir = scratch("extremes_contact_materials");
-    // Hertz at a fixed load: δ ∝ E^(-2/3) (SPEC §7.1), the semi-axes ∝ E^(-1/3).
+    // Hertz at a fixed load: δ ∝ E^(-2/3) (docs/reference/07-contact-forces.md §7.1), the semi-axes ∝ E^(-1/3).
     let ml95 = shipped("profiles/ml95_like/ml95_like_wheel.csv");
     let mut rows = Vec::new();
     for young in [1e9_f64, 1e10, 2.1e11, 1e12, 1e13] {

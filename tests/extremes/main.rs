@@ -5,7 +5,7 @@
 //! diagnostic (time, wheel, state) where the model leaves its validity.
 //!
 //! Cargo builds this directory as one test target: `cargo test --test extremes`.
-//! Cases that take minutes are `#[ignore]` (README: "Extremes").
+//! Cases that take minutes are `#[ignore]` (docs/guide/extremes-and-diagnostics.md).
 
 mod bad_input;
 #[path = "../common/mod.rs"]

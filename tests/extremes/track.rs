@@ -12,7 +12,7 @@
 //!   either a completed run or a failure whose message names the time and
 //!   the wheelset.
 //!
-//! Geometry of the generated layouts (SPEC §1): X, Y horizontal, Z up;
+//! Geometry of the generated layouts (docs/reference/01-units-frames.md §1): X, Y horizontal, Z up;
 //! curvature κ > 0 turns left; cant > 0 raises the left rail (`cant_mm`, a
 //! height over the cant base e0 = 1.5 m); grade = dz/du, u the horizontal
 //! distance.
@@ -660,7 +660,7 @@ fn tram_curve_r50_with_and_without_transitions() {
             assert!(peak < 1.0 + 1e-3, "{name}: curvature overshoot {peak}");
         } else {
             // The interpolating cubic rings at a curvature step: the
-            // overshoot is bounded but real (measured 1.2 %, README).
+            // overshoot is bounded but real (measured 1.2 %, docs/guide/extremes-and-diagnostics.md).
             assert!(peak > 1.0 + 1e-4 && peak < 1.5, "{name}: peak κR {peak}");
         }
 
@@ -1240,7 +1240,7 @@ fn spline_overshoot_at_a_step_cubic_versus_akima_and_pchip() {
         "pchip overshoots: {pchip:?}"
     );
     // The cubic: a real overshoot (measured 13.6 mm of cant, 4.5 mm of
-    // jog: README), far above Akima's and PCHIP's.
+    // jog: docs/guide/extremes-and-diagnostics.md), far above Akima's and PCHIP's.
     assert!(cubic.1 > 5.0 && cubic.2 > 2.0, "cubic: {cubic:?}");
     assert!(
         cubic.1 > 10.0 * akima.1.max(1e-3) && akima.1 >= pchip.1 - 1e-9,

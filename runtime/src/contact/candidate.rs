@@ -8,7 +8,7 @@ use crate::profile::Zone;
 use crate::track::Side;
 
 /// Principal curvatures at a contact (1/m), positive where the body is
-/// convex towards the other (SPEC §7.1).
+/// convex towards the other (docs/reference/07-contact-forces.md §7.1).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Curvatures {
     /// Wheel, rolling direction: cos γ_w / r_roll (the surface of revolution).
@@ -55,7 +55,7 @@ pub struct Candidate {
     /// Contact points on the wheel and on the rail (global, m).
     pub wheel_point: Vector3<f64>,
     pub rail_point: Vector3<f64>,
-    /// Contact frame (SPEC §1): normal from the rail into the wheel, rolling
+    /// Contact frame (docs/reference/01-units-frames.md §1): normal from the rail into the wheel, rolling
     /// direction (rail tangent projected ⟂ normal) and `lateral = normal × tangent`.
     pub normal: Vector3<f64>,
     pub tangent: Vector3<f64>,

@@ -1,5 +1,5 @@
 //! The four contact equations of one wheel–rail pair and zone (paper
-//! §4.2, eq. 18–19; SPEC §6) and their analytic Jacobian.
+//! §4.2, eq. 18–19; docs/reference/06-contact-detection.md §6) and their analytic Jacobian.
 //!
 //! Unknowns `x = (s_r, u_r, s_w, u_w)`:
 //! * `s_r` — arc length of the rail (its table's L) (m);

@@ -1,4 +1,4 @@
-//! Online contact detection (paper §4.2–4.3, SPEC §6): for each wheel and
+//! Online contact detection (paper §4.2–4.3, docs/reference/06-contact-detection.md §6): for each wheel and
 //! rail, the four surface parameters (s_r, u_r, s_w, u_w) solving the
 //! contact equations by Newton's method with an analytic Jacobian, for the
 //! tread and flange functions of the wheel separately — so the flange point

@@ -71,7 +71,7 @@ impl Settled {
 }
 
 /// Hertz stiffness K (N/m^1.5) of a candidate, with the principal relative
-/// curvatures of SPEC §7.1; `None` when the geometry is not Hertzian.
+/// curvatures of docs/reference/07-contact-forces.md §7.1; `None` when the geometry is not Hertzian.
 pub fn hertz_stiffness(c: &Candidate, material: &Material) -> Option<f64> {
     let a = 0.5 * (c.curvatures.wheel_rolling_1_m + c.curvatures.rail_rolling_1_m);
     let b = 0.5 * (c.curvatures.wheel_lateral_1_m + c.curvatures.rail_lateral_1_m);

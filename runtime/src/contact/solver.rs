@@ -11,7 +11,7 @@ use crate::profile::{MAX_SEGMENTS, Zone};
 use crate::track::{Side, TrackTables};
 
 /// When the flange zones are searched (paper §4.3: the user chooses whether
-/// flange contact matters; SPEC §6).
+/// flange contact matters; docs/reference/06-contact-detection.md §6).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum FlangeSearch {
     /// Never: tread contact only.

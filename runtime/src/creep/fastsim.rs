@@ -9,7 +9,7 @@
 //! L (m/Pa) per kind of creepage (Kalker 1982; the "three flexibilities"
 //! variant, CONTACT's `M = 3`). Kalker's choice of the flexibilities makes the
 //! small-creepage limit of the longitudinal and lateral forces equal
-//! Kalker's linear theory (`kalker.rs`, SPEC §7.3) for any ellipse:
+//! Kalker's linear theory (`kalker.rs`, docs/reference/07-contact-forces.md §7.3) for any ellipse:
 //!
 //! ```text
 //! L1 = 8a / (3 C11 G),    L2 = 8a / (3 C22 G),    L3 = π a √(a/b) / (4 C23 G)
@@ -19,7 +19,7 @@
 //! `m_hertz.f90`, routine `simpflex`). C11, C22, C23 are Kalker's coefficients
 //! from [`super::kalker_coefficients`] for a/b and ν of the input.
 //!
-//! # Frame, rolling direction, signs (SPEC §1)
+//! # Frame, rolling direction, signs (docs/reference/01-units-frames.md §1)
 //!
 //! x is the rolling direction `t_c`, y the lateral `l_c`, both from the
 //! centre of the ellipse; a is the semi-axis along x, b along y. The wheel
@@ -27,7 +27,7 @@
 //! flows through the patch with velocity −V: a particle **enters at the
 //! leading edge x = +a(y)** and leaves at x = −a(y), a(y) = a√(1 − y²/b²).
 //! The rigid slip of the wheel relative to the rail over the rolling speed
-//! is w = (ξ − φy, η + φx) (SPEC §7.3 creepages; the same signs as the
+//! is w = (ξ − φy, η + φx) (docs/reference/07-contact-forces.md §7.3 creepages; the same signs as the
 //! CONTACT user guide's rigid slip, eq. `rig_shift_roll`). With p the traction **on the
 //! wheel** and the steady-state slip s = w − L ∂p/∂x, a particle that
 //! adheres (s = 0) builds up traction as it travels from the leading edge:
@@ -37,7 +37,7 @@
 //! ```
 //!
 //! so p opposes the slip: Fx = −G a b C11 ξ in the linear limit, the sign of
-//! SPEC §7.3. Where |p| would exceed the traction bound g = μ p_n the
+//! docs/reference/07-contact-forces.md §7.3. Where |p| would exceed the traction bound g = μ p_n the
 //! particle slips and p = −g s/|s| (Coulomb).
 //!
 //! # Algorithm (Kalker 1982)
@@ -109,7 +109,7 @@
 //! - Pure longitudinal (or lateral) creepage has closed forms for the
 //!   continuum model: with the ellipsoidal bound the total force is
 //!   F/μN = (2/π)[atan r + r/(1 + r²)], r = πGabC11|ξ|/(4μN) — Polach's
-//!   (1999) formula (SPEC §7.3), which is therefore FASTSIM's continuum limit;
+//!   (1999) formula (docs/reference/07-contact-forces.md §7.3), which is therefore FASTSIM's continuum limit;
 //!   with the parabolic bound it is an elementary expression in
 //!   u = 3πGabC11|ξ|/(32μN) that reaches μN at u = 1 (derived and checked in
 //!   `tests/fastsim_reference.rs`).

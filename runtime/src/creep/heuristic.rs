@@ -9,7 +9,7 @@
 //!
 //! ```text
 //! F = μN (u − u²/3 + u³/27)   for u ≤ 3,     F = μN   for u > 3,
-//! Fx = Fx′ F/F′,  Fy = Fy′ F/F′,  Mz = 0 (spin moment neglected, SPEC §7.3)
+//! Fx = Fx′ F/F′,  Fy = Fy′ F/F′,  Mz = 0 (spin moment neglected, docs/reference/07-contact-forces.md §7.3)
 //! ```
 //!
 //! The scale factor F/F′ = 1 − u/3 + u²/27 (u ≤ 3) or 1/u (u > 3) is

@@ -1,5 +1,5 @@
 //! Kalker's creepage and spin coefficients C11, C22, C23, C33 of the linear
-//! theory of rolling contact for elliptical contact areas (SPEC §7.3; paper
+//! theory of rolling contact for elliptical contact areas (docs/reference/07-contact-forces.md §7.3; paper
 //! eq. 23), and the Kalker linear creep law built on them.
 //!
 //! # Source and interpolation
@@ -61,7 +61,7 @@ use std::sync::OnceLock;
 use super::{CreepError, CreepForces, CreepInput};
 
 /// Kalker's creepage and spin coefficients (dimensionless) for one ellipse
-/// shape and Poisson's ratio (Kalker 1990, Table E.3; SPEC §7.3).
+/// shape and Poisson's ratio (Kalker 1990, Table E.3; docs/reference/07-contact-forces.md §7.3).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct KalkerCoefficients {
     /// Longitudinal creepage → longitudinal force.
@@ -282,7 +282,7 @@ fn blend(rho: f64, g: f64) -> f64 {
     1.0 + (rho - 1.0) * (g / G_MIN)
 }
 
-/// Kalker's linear creep law (paper eq. 23, SPEC §7.3), forces on the wheel
+/// Kalker's linear creep law (paper eq. 23, docs/reference/07-contact-forces.md §7.3), forces on the wheel
 /// in the contact frame:
 ///
 /// ```text

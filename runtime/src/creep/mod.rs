@@ -1,8 +1,8 @@
-//! Creep force laws (paper §4.6–4.7, SPEC §7.3): from the creepages of one
+//! Creep force laws (paper §4.6–4.7, docs/reference/07-contact-forces.md §7.3): from the creepages of one
 //! wheel–rail contact, its Hertz ellipse and normal force, the tangential
 //! forces and the spin moment **on the wheel**, in the contact frame.
 //!
-//! # Conventions (SPEC §1)
+//! # Conventions (docs/reference/01-units-frames.md §1)
 //!
 //! - Contact frame: `t_c` rolling direction, `l_c = n_c × t_c` lateral,
 //!   `n_c` normal from rail into wheel.

@@ -1,4 +1,4 @@
-//! Polach's creep force method (SPEC §7.3): the 1999 method with spin, its
+//! Polach's creep force method (docs/reference/07-contact-forces.md §7.3): the 1999 method with spin, its
 //! 2005 extension for large creepages (reduction factors kA, kS) and the
 //! optional slip-velocity dependent friction coefficient.
 //!
@@ -12,7 +12,7 @@
 //! We had no copy of either paper at hand while writing this module, so the
 //! formulae below are labelled (P1)…(P10) here rather than with the papers'
 //! own equation numbers (which we could not verify); each says which paper it
-//! comes from. Where SPEC §7.3 states a formula explicitly it is followed.
+//! comes from. Where docs/reference/07-contact-forces.md §7.3 states a formula explicitly it is followed.
 //! ε_M uses the *signed* s_yC — hence the |ε_M| in (P8) — as in the
 //! published method (a third-party translation of Polach's FORTRAN listing
 //! agrees).
@@ -29,16 +29,17 @@
 //! (P1) s = √(ξ² + η²)
 //! (P2) F = 2Qμ/π · [ kA ε / (1 + (kA ε)²) + atan(kS ε) ],   kS ≤ kA ≤ 1
 //! (P3) ε = (2/3) · C π a² b / (Q μ) · s_C,   C = (3/8) · (G/a) · c_jj
-//!          = π G a b c_jj s_C / (4 Q μ)                       (SPEC §7.3)
+//!          = π G a b c_jj s_C / (4 Q μ)                       (docs/reference/07-contact-forces.md §7.3)
 //! (P4) c_jj = √( (c11 ξ/s)² + (c22 η/s)² )
 //! (P5) Fx = F ξ/s_C,   Fy = F η/s_C          (Polach's sign, see below)
 //! ```
 //!
 //! C (N/m³) is Polach's contact shear stiffness per unit area; substituting
-//! C = 3G c_jj/(8a) into (2/3) C π a² b s/(Qμ) gives exactly SPEC's
+//! C = 3G c_jj/(8a) into (2/3) C π a² b s/(Qμ) gives exactly the reference's
+//! (`docs/reference/07-contact-forces.md` §7.3)
 //! π G a b c_jj s/(4Qμ): both forms are the same number.
 //!
-//! Spin (Polach 1999; K_S is SPEC's name for the shape factor
+//! Spin (Polach 1999; K_S is the reference's name for the shape factor
 //! 1 + 6.3(1 − e^(−a/b))):
 //!
 //! ```text
@@ -51,7 +52,7 @@
 //! ```
 //!
 //! and Polach's total lateral force is F η/s_C + F_yS. The spin moment is
-//! neglected by the method: Mz = 0 (SPEC §7.3, "zero where the law neglects
+//! neglected by the method: Mz = 0 (docs/reference/07-contact-forces.md §7.3, "zero where the law neglects
 //! it").
 //!
 //! Slip-velocity dependent friction (Polach 2005):
@@ -80,7 +81,7 @@
 //! ε_M, K_M → 0 for large ε_M (pure large spin gives no net lateral force),
 //! and |K_M| ≤ (2/3)(1/√3)/(4/3)² ≈ 0.2165 (at ε_M² = 1/3).
 //!
-//! # Signs (SPEC §1)
+//! # Signs (docs/reference/01-units-frames.md §1)
 //!
 //! Polach writes the forces along the creepages (P5), (P7): in his
 //! convention the force has the sign of the creepage. Here creepages are
@@ -107,7 +108,7 @@
 //! which is Kalker's −G (ab)^1.5 c23 φ whenever ξ = 0 (then |s_yC| = s_C),
 //! in particular for pure spin and for any (η, φ) pair. With the 2005
 //! factors the initial slope is scaled by (kA + kS)/2 (dF/dε at 0 is
-//! kA + kS instead of 2), by design (SPEC §7.3); the spin force is not
+//! kA + kS instead of 2), by design (docs/reference/07-contact-forces.md §7.3); the spin force is not
 //! scaled (Polach 2005 changes only (P2)).
 //!
 //! Two deviations from Kalker's linear law in that limit are inherent in the

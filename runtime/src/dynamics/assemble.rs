@@ -1,7 +1,7 @@
 //! Assembly of the vehicle on the track ([`VehicleSystem::assemble`]):
 //! settings checked, wheelsets settled on the rails at their assembly
 //! position and at the initial conditions, elements assembled, the initial
-//! state y0 (paper §5; SPEC §8).
+//! state y0 (paper §5; docs/reference/08-multibody.md §8).
 
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 

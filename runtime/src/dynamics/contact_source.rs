@@ -8,9 +8,9 @@
 //! - [`OnlineContact`]: Newton on the surface parameters at every
 //!   evaluation, warm-started from the previous solve (paper §4.2–4.3;
 //!   [`ContactSolver`]), Hertz normal force with hysteresis and the run's
-//!   creep law ([`evaluate_contact`]; paper eqs. 22–23, SPEC §7);
+//!   creep law ([`evaluate_contact`]; paper eqs. 22–23, docs/reference/07-contact-forces.md §7);
 //! - [`TableContact`]: the contact points interpolated from the
-//!   wheelset's contact lookup table (paper §2, SPEC §0, §7.4;
+//!   wheelset's contact lookup table (paper §2, docs/reference/01-units-frames.md §0, §7.4;
 //!   [`super::table_contact`]), evaluated for the actual pose, forces as
 //!   online;
 //! - [`ImportedContact`]: one contact per wheel from a table computed by
@@ -20,7 +20,7 @@
 //! # What a source provides
 //!
 //! Units SI (m, rad, N, N·m, s); vectors in the global frame (Z up), the
-//! track frame `t, n, b` as in SPEC §1; candidates indexed `[left,
+//! track frame `t, n, b` as in docs/reference/01-units-frames.md §1; candidates indexed `[left,
 //! right][piece]` ([`WheelsetContacts`]).
 //!
 //! - [`ContactSource::settle`]: the wheelset seated on the rails under

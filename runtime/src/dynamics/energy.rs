@@ -90,7 +90,7 @@ impl VehicleSystem<'_> {
     /// Mechanical energy (J) at the last evaluated state: kinetic energy of
     /// every body, gravitational potential (zero at Z = 0), the elements'
     /// potential, and the elastic energy of the Hertz contacts,
-    /// ∫ K δ^1.5 dδ = 0.4 K δ^2.5 (SPEC §7.1). With restitution 1, no creep
+    /// ∫ K δ^1.5 dδ = 0.4 K δ^2.5 (docs/reference/07-contact-forces.md §7.1). With restitution 1, no creep
     /// and no dampers it is conserved; the references' prescribed motion can
     /// do work on the elements (none on a straight track at constant speed).
     pub fn mechanical_energy_j(&self) -> f64 {

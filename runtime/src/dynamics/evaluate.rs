@@ -1,5 +1,5 @@
 //! The vehicle on the track as a first-order system y′ = f(t, y) (paper
-//! §4.1, Fig. 8; SPEC §8). One evaluation of f is the paper's step:
+//! §4.1, Fig. 8; docs/reference/08-multibody.md §8). One evaluation of f is the paper's step:
 //!
 //! a. the state of every body (wheelsets first, then free bodies;
 //!    [`BodyState::LEN`] variables each, [`crate::body::BodyState`]);

@@ -13,7 +13,7 @@
 //! - **Wheel point** P_w: the wheel's material point at the table's contact
 //!   position, on the axle at ±`wheel_lateral_m` and the rolling radius
 //!   below it: P_w = c + σ w η − r ζ (c the wheelset centre).
-//! - **Normal** n_c (rail into wheel, SPEC §1): the track-plane normal b
+//! - **Normal** n_c (rail into wheel, docs/reference/01-units-frames.md §1): the track-plane normal b
 //!   tilted in the track cross-section by the contact angle δ towards the
 //!   track centre: n_c = cos δ b − σ sin δ n. It is the rail's normal at
 //!   its contact point, fixed in the track frame; the wheelset's roll does
@@ -57,7 +57,7 @@
 //! by (N/N0)^(1/3) too): a = a0 (N/N0)^(1/3), b = b0 (N/N0)^(1/3).
 //! Creepages from the wheel's material-point velocity at P_w
 //! ([`crate::creepage`], V = the forward speed). Creep forces: Kalker's
-//! linear forces with the **table's** C11, C22, C23 (SPEC §7.3, eq. 23),
+//! linear forces with the **table's** C11, C22, C23 (docs/reference/07-contact-forces.md §7.3, eq. 23),
 //! saturated by Shen–Hedrick–Elkins (`creep_law = heuristic`, that model's
 //! law), or left linear (`kalker`), or none; spin moment neglected (the
 //! table has no C33). G is the run's E/(2(1 + ν)) unless

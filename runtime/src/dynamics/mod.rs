@@ -1,5 +1,5 @@
 //! Dynamic simulation of wheelsets and bogies on tabulated track (paper
-//! §4.1, Fig. 8, and §5; SPEC §8).
+//! §4.1, Fig. 8, and §5; docs/reference/08-multibody.md §8).
 //!
 //! - [`vehicle`]: the vehicle as plain data (wheelsets, free bodies,
 //!   track-following references, spring–dampers) at its assembly

@@ -1,4 +1,4 @@
-//! Sampled outputs of a run (SPEC §8 outputs; the data model is
+//! Sampled outputs of a run (docs/reference/08-multibody.md §8 outputs; the data model is
 //! [`crate::results`], which `crate::schema::write_results` writes to a
 //! file): at every output time the system is evaluated at the
 //! (interpolated) state and each wheelset's track-relative position and

@@ -1,7 +1,7 @@
 //! Settings of a run that the vehicle system needs (how contact is found,
 //! speed and its ramp, axle torques, start, derailment limit, gravity),
 //! their validation, and the wheelsets' initial conditions (paper §5;
-//! SPEC §8).
+//! docs/reference/08-multibody.md §8).
 
 use std::sync::Arc;
 
@@ -23,7 +23,7 @@ use crate::contact_table::ContactTable;
 /// wheelset stops within a few of them instead of creeping to rest.
 pub const BRAKE_STICK_SPEED_M_S: f64 = 1e-3;
 
-/// Standard gravity (m/s²), SPEC §1.
+/// Standard gravity (m/s²), docs/reference/01-units-frames.md §1.
 pub const GRAVITY_M_S2: f64 = 9.81;
 
 /// How the contact geometry is found at each evaluation: the run's choice,

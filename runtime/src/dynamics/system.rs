@@ -1,5 +1,5 @@
 //! The vehicle on the track as a first-order system y′ = f(t, y) for
-//! [`crate::integrator`] (paper §4.1, Fig. 8; SPEC §8): the
+//! [`crate::integrator`] (paper §4.1, Fig. 8; docs/reference/08-multibody.md §8): the
 //! [`VehicleSystem`] and its state, the per-wheelset results of an
 //! evaluation ([`WheelsetSnapshot`]), and the [`OdeSystem`] implementation
 //! (f and the accepted-state bookkeeping: hysteresis memory, counters,

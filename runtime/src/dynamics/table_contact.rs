@@ -1,4 +1,4 @@
-//! Contact from the contact lookup table (paper §2, SPEC §0): instead of
+//! Contact from the contact lookup table (paper §2, docs/reference/01-units-frames.md §0): instead of
 //! solving the contact equations, the contact points of each wheel and zone
 //! are interpolated linearly from the wheelset's table at its lateral
 //! displacement relative to the track, and evaluated for the actual pose —

@@ -1,5 +1,5 @@
 //! Where a body is relative to the track, and the motion of track-following
-//! references (SPEC §1 frames: `t` forward, `n` left, `b = t × n` up).
+//! references (docs/reference/01-units-frames.md §1 frames: `t` forward, `n` left, `b = t × n` up).
 
 use nalgebra::{Matrix3, Vector3};
 

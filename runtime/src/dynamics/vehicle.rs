@@ -1,4 +1,4 @@
-//! The vehicle as the simulator sees it (SPEC §8): wheelsets with their
+//! The vehicle as the simulator sees it (docs/reference/08-multibody.md §8): wheelsets with their
 //! contact models, free rigid bodies, track-following references and
 //! linear spring–dampers, all positioned at the **assembly
 //! configuration** in the vehicle's reference frame (origin on the track

@@ -1,16 +1,16 @@
-//! Time integrators for the multibody equations of motion (SPEC §8):
+//! Time integrators for the multibody equations of motion (docs/reference/08-multibody.md §8):
 //! fixed-step classical Runge–Kutta (RK4) and adaptive Dormand–Prince 5(4)
 //! (DOPRI5) with dense output, behind one entry point, [`integrate`].
 //!
 //! # Why hand-written rather than a crate
 //!
-//! SPEC §8 prefers a well-kept crate where it fits the warm-started contact
+//! docs/reference/08-multibody.md §8 prefers a well-kept crate where it fits the warm-started contact
 //! state. It does not fit here: the simulator's right-hand side carries
 //! **history that may only change at accepted states** — the contact's
 //! hysteresis memory (the impact velocity δ̇⁽⁻⁾ and the start-up rule's
 //! running maximum δ̇max of paper eq. 22, [`crate::normal`]) — and warm-start
 //! data (the surface parameters of the last step are the next initial guess,
-//! SPEC §8). Trial stages and rejected steps must not commit it. Both methods
+//! docs/reference/08-multibody.md §8). Trial stages and rejected steps must not commit it. Both methods
 //! already evaluate the right-hand side at every accepted state (RK4's k1 of
 //! the next step, DOPRI5's FSAL stage k7), so committing history from that
 //! very evaluation costs nothing: [`OdeSystem::accept`] is called right after

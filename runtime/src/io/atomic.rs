@@ -1,7 +1,7 @@
 //! Atomic creation of an output file, the one writer of the workspace for
 //! every file it writes (HDF5 tables and results, PNG plots, text): write
 //! under a temporary name in the destination's directory, rename over the
-//! destination when complete (SPEC §2). Guarantees:
+//! destination when complete (docs/reference/02-inputs.md §2). Guarantees:
 //!
 //! * nothing appears at the destination unless the whole file was written
 //!   (an existing file there stays as it was until the rename replaces it);

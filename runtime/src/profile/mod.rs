@@ -1,5 +1,5 @@
 //! Wheel and rail profiles in the toolkit's internal convention (paper §3,
-//! SPEC §5), built from points read by [`crate::profile_import`].
+//! docs/reference/05-surfaces.md §5), built from points read by [`crate::profile_import`].
 //!
 //! # Internal convention
 //!

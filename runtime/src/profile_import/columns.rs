@@ -12,7 +12,7 @@
 //! * CSV (`.csv`): a header row naming two columns, `y` or `y_mm` and `z` or
 //!   `z_mm` (any order, case-insensitive, optionally quoted), then rows of
 //!   two comma-separated numbers; lines starting with `#` and blank lines
-//!   are ignored (SPEC §2). Each column's unit is in its name; z up. The
+//!   are ignored (docs/reference/02-inputs.md §2). Each column's unit is in its name; z up. The
 //!   header is checked here (its rules are the format's), the table read by
 //!   [`CsvTable::parse`].
 

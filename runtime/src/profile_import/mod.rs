@@ -1,4 +1,4 @@
-//! Reading wheel and rail profile files (SPEC §2, "Profiles") into plain
+//! Reading wheel and rail profile files (docs/reference/02-inputs.md §2, "Profiles") into plain
 //! data: the points of the file **in the file's own coordinate convention**,
 //! converted to metres, with the metadata needed to convert them into the
 //! toolkit's wheel/rail conventions (done elsewhere, not here).
@@ -28,7 +28,7 @@
 //!   blank lines are ignored.
 //! * CSV: a header row naming exactly two columns (`y`/`y_mm` and
 //!   `z`/`z_mm`, any order), then one row of numbers a line; lines starting
-//!   with `#` and blank lines are ignored (SPEC §2).
+//!   with `#` and blank lines are ignored (docs/reference/02-inputs.md §2).
 //!
 //! # Import options
 //!

@@ -4,7 +4,7 @@
 //! validating, writing and reading loop over the list instead of spelling
 //! each series.
 //!
-//! Frames and signs are those of SPEC §1: track frame `t` forward, `n`
+//! Frames and signs are those of docs/reference/01-units-frames.md §1: track frame `t` forward, `n`
 //! left, `b` up; contact frame `n_c` from rail into wheel, `t_c` rolling
 //! direction, `l_c = n_c × t_c`; forces and moments act **on the wheel**.
 

@@ -1,5 +1,5 @@
 //! The record of a run as plain data: time series of every wheelset,
-//! wheel and contact zone (SPEC §8 outputs), filled by
+//! wheel and contact zone (docs/reference/08-multibody.md §8 outputs), filled by
 //! [`crate::dynamics::recorder`] and written and read by the results file
 //! of [`crate::schema`] (HDF5, behind the `io` feature). No file access
 //! here.
@@ -7,7 +7,7 @@
 //! Every series is defined once in the column lists of [`columns`]
 //! ([`WHEELSET_COLUMNS`], [`WHEEL_COLUMNS`], [`ZONE_COLUMNS`]): its name,
 //! unit, meaning with its sign convention, and how to reach its values.
-//! Frames and signs are those of SPEC §1: track frame `t` forward, `n`
+//! Frames and signs are those of docs/reference/01-units-frames.md §1: track frame `t` forward, `n`
 //! left, `b` up; contact frame `n_c` from rail into wheel, `t_c` rolling
 //! direction, `l_c = n_c × t_c`; forces and moments are those acting **on
 //! the wheel**. A zone's f64 values are NaN at samples where it is not in
@@ -52,7 +52,7 @@ pub struct WheelsetSeries {
     /// The wheelset's name in the vehicle (e.g. "front").
     pub name: String,
     /// Lateral displacement of the wheelset centre from the track
-    /// centreline (m), + towards the left rail (SPEC §1).
+    /// centreline (m), + towards the left rail (docs/reference/01-units-frames.md §1).
     pub lateral_m: Vec<f64>,
     /// Yaw angle relative to the track (rad), + nose left.
     pub yaw_rad: Vec<f64>,
@@ -93,7 +93,7 @@ pub struct WheelSeries {
 
 /// Time series of one contact zone (tread or flange) of one wheel. Every
 /// f64 series is NaN at samples where the zone is not in contact. Contact
-/// frame (SPEC §1): `n_c` from rail into wheel, `t_c` rolling direction,
+/// frame (docs/reference/01-units-frames.md §1): `n_c` from rail into wheel, `t_c` rolling direction,
 /// `l_c = n_c × t_c`; forces and moments act on the wheel.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct ZoneSeries {

@@ -1,4 +1,4 @@
-//! Reading and writing `/contact_table` (SPEC §4): the contact lookup table
+//! Reading and writing `/contact_table` (docs/reference/04-table-files.md §4): the contact lookup table
 //! of a wheel/rail profile pair.
 //!
 //! ```text

@@ -1,4 +1,4 @@
-//! The HDF5 table-file schema (SPEC §4): the one place that reads and writes
+//! The HDF5 table-file schema (docs/reference/04-table-files.md §4): the one place that reads and writes
 //! table files, so the pre-processor's writer and the run-time reader cannot
 //! drift apart.
 //!

@@ -71,7 +71,7 @@
 //! lists of [`crate::results`] (one definition each: name, unit,
 //! description), written and read in a loop over them; the data types are
 //! [`crate::results::RunResults`] and its parts. Frames and
-//! signs are those of SPEC §1: track frame `t` forward, `n` left, `b` up;
+//! signs are those of docs/reference/01-units-frames.md §1: track frame `t` forward, `n` left, `b` up;
 //! contact frame `n_c` from rail into wheel, `t_c` rolling direction,
 //! `l_c = n_c × t_c`; forces and moments are those acting **on the wheel**.
 //! A zone's f64 values are NaN at samples where it is not in contact.

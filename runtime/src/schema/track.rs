@@ -1,4 +1,4 @@
-//! Reading and writing the track part of a table file (SPEC §4).
+//! Reading and writing the track part of a table file (docs/reference/04-table-files.md §4).
 
 use std::path::{Path, PathBuf};
 

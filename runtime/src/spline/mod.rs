@@ -1,5 +1,5 @@
 //! Piecewise cubic interpolation: the three schemes of the paper (§2, §3;
-//! SPEC §3a) in one representation.
+//! docs/reference/03-track-preproc.md §3a) in one representation.
 //!
 //! | [`Scheme`]            | slopes at the knots                          | matches                                   |
 //! |-----------------------|----------------------------------------------|-------------------------------------------|

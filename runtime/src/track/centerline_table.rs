@@ -1,7 +1,7 @@
 //! The centreline database: position, track frame, cant, curvature and
 //! torsion at a uniform step of the track distance `s`, plus the arc length
 //! of each rail at that `s` (the s ↔ L mapping) and the irregularities
-//! applied there (SPEC §3c–g, §4).
+//! applied there (docs/reference/03-track-preproc.md §3c–g, §4).
 
 use nalgebra::Vector3;
 

@@ -1,6 +1,6 @@
-//! The track frame of SPEC §3c and the rail frames of §3f.
+//! The track frame of docs/reference/03-track-preproc.md §3c and the rail frames of §3f.
 //!
-//! Sign rules (SPEC §1): global Z up; `t` the unit tangent in the direction of
+//! Sign rules (docs/reference/01-units-frames.md §1): global Z up; `t` the unit tangent in the direction of
 //! increasing track distance; `n` lateral, pointing **left**; `b = t × n`
 //! (up-ish). A positive roll angle rotates `(n, b)` about `t` so that the left
 //! side rises (positive cant lifts the left rail).
@@ -20,7 +20,7 @@ pub struct Frame {
 
 impl Frame {
     /// The un-canted frame of a tangent: `n₀ ∝ Z × t` (horizontal), `b₀ = t × n₀`,
-    /// then rolled by `roll_rad` about `t` (SPEC §3c). Unlike the Frenet frame
+    /// then rolled by `roll_rad` about `t` (docs/reference/03-track-preproc.md §3c). Unlike the Frenet frame
     /// it exists on straight track and does not flip at inflection points.
     ///
     /// Returns `None` when `tangent` is (nearly) vertical or zero, where the
@@ -61,7 +61,7 @@ impl Frame {
 }
 
 /// Roll of a rail's frame about its tangent: the track cant plus the rail
-/// inclination turned towards the track centre (SPEC §3f). For the left rail
+/// inclination turned towards the track centre (docs/reference/03-track-preproc.md §3f). For the left rail
 /// (at +n) "towards the centre" is a positive roll, for the right rail a
 /// negative one: a 1:40 inclination tilts both rail heads inwards.
 pub fn rail_roll_rad(side: super::Side, cant_rad: f64, inclination_rad: f64) -> f64 {

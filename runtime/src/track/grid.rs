@@ -1,7 +1,7 @@
 //! Location and linear interpolation in tabulated data, shared by every
 //! table of the run time: the track's centreline and rail tables
 //! (`super::centerline_table`, `super::rail_table`; paper §2g), the
-//! contact lookup table ([`crate::contact_table`]; SPEC §7.4) and the
+//! contact lookup table ([`crate::contact_table`]; docs/reference/07-contact-forces.md §7.4) and the
 //! imported contact table ([`crate::imported_contact`]).
 //!
 //! A table's first column is a grid x_0 < x_1 < … < x_n. Its rows are

@@ -1,4 +1,4 @@
-//! Track databases in memory (paper §2, Fig. 1; SPEC §3–4) and their O(1)
+//! Track databases in memory (paper §2, Fig. 1; docs/reference/03-track-preproc.md §3–4) and their O(1)
 //! linear interpolation. Built by the pre-processor, read and written by
 //! [`crate::schema`].
 

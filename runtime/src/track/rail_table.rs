@@ -1,4 +1,4 @@
-//! One rail's database (paper Fig. 1, SPEC §3g): rows at a uniform step of
+//! One rail's database (paper Fig. 1, docs/reference/03-track-preproc.md §3g): rows at a uniform step of
 //! the rail's own arc length `L`, with the position of the rail's profile
 //! origin and its frame `(t, n, b)` (cant and rail inclination included).
 //! Looked up by linear interpolation in O(1) (paper §2g).
@@ -8,7 +8,7 @@ use nalgebra::Vector3;
 use super::grid::{UniformGrid, check_rows, lerp3, within};
 use super::{Frame, Side, TrackError};
 
-/// Column names of a rail database, in file order (SPEC §3g).
+/// Column names of a rail database, in file order (docs/reference/03-track-preproc.md §3g).
 pub const RAIL_COLUMNS: [&str; 13] = [
     "L", "x", "y", "z", "tx", "ty", "tz", "nx", "ny", "nz", "bx", "by", "bz",
 ];

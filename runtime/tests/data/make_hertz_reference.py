@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Generate SciPy (and mpmath) reference values for `runtime::elliptic` and
-`runtime::hertz` (SPEC §7.1).
+`runtime::hertz` (docs/reference/07-contact-forces.md §7.1).
 
 Writes ``hertz_reference.json`` next to this script; it is read by the
 integration test ``runtime/tests/hertz_reference.rs``. Run from anywhere:
@@ -18,7 +18,7 @@ Elliptic integrals (parameter convention m = k^2, as scipy.special):
 * ``elliptic_complementary``: K(1 - mc) = ``scipy.special.ellipkm1(mc)`` for
   mc down to 1e-300, and mpmath K, E of the exact 1 - mc (at 380 digits).
 
-Hertz contact (SPEC §7.1), for every case (A, B) in 1/m, N = 10 kN,
+Hertz contact (docs/reference/07-contact-forces.md §7.1), for every case (A, B) in 1/m, N = 10 kN,
 E = 210 GPa, nu = 0.3:
 
     theta = arccos(|B - A| / (A + B))   (SciPy: as 2 arctan(sqrt(min/max)))
@@ -140,7 +140,7 @@ MP_OPS = Ops(mp.mpf, mp.cbrt, mp.sqrt, mp.pi)
 
 
 def derived(a_curv, b_curv, e_sq, mc, k, e_int, ops, theta):
-    """SPEC §7.1 quantities from the solved eccentricity."""
+    """docs/reference/07-contact-forces.md §7.1 quantities from the solved eccentricity."""
     young, nu, force = ops.const(YOUNG_PA), ops.const(POISSON), ops.const(NORMAL_FORCE_N)
     s = a_curv + b_curv
     m_coef = ops.cbrt(2 * e_int / (ops.pi * mc))
@@ -207,7 +207,7 @@ def mpmath_solution(a_curv, b_curv):
         e_sq, mc = -mp.expm1(-u), mp.exp(-u)
         k, e_int = mp.ellipk(e_sq), mp.ellipe(e_sq)
         assert abs(g(u)) < mp.mpf(10) ** (10 - DPS), (a_curv, b_curv)
-    theta = mp.acos(abs(b - a) / (a + b))  # the SPEC form, exact at 40 digits
+    theta = mp.acos(abs(b - a) / (a + b))  # the reference form (docs/reference/07-contact-forces.md), exact at 40 digits
     return derived(a, b, e_sq, mc, k, e_int, MP_OPS, theta)
 
 

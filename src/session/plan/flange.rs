@@ -30,7 +30,7 @@ pub const START_FRACTION: f64 = 0.75;
 /// Least damping ratio of the linearised hunting mode for `flange = off`:
 /// the envelope of a 5 % damped mode falls e-fold within about three
 /// cycles; nearer the linear critical speed the subcritical hunting cycle
-/// (README "Critical speed": 5–10 m/s below it) may be reached.
+/// (`docs/guide/critical-speed.md`: 5–10 m/s below it) may be reached.
 pub const MIN_HUNTING_DAMPING: f64 = 0.05;
 
 /// Stop an `off` run whose wheelset approaches its flange: trips when

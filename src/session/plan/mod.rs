@@ -1,4 +1,4 @@
-//! Model only what a scene requires (issue 7, SPEC §0: "a run models only
+//! Model only what a scene requires (issue 7, docs/reference/01-units-frames.md §0: "a run models only
 //! what its scene requires"). Before a run, [`plan`] looks at the scene —
 //! the track's geometry over the stretch the run covers, the vehicle, the
 //! speed and the initial offset, the stated tolerance — and decides:

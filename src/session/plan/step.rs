@@ -19,7 +19,7 @@ pub const NICE_STEPS_M: [f64; 10] = [1.0, 0.5, 0.25, 0.2, 0.1, 0.05, 0.04, 0.025
 
 /// Largest chord error of the rail tables' linear interpolation the planner
 /// accepts without a stated tolerance (m): h²κ/8 ≤ this (the sagitta of a
-/// chord h on a curve of curvature κ; README "Linear interpolation of the
+/// chord h on a curve of curvature κ; `docs/guide/build-a-track.md`, "Linear interpolation of the
 /// tables"). With `run.lateral_tolerance_m` the bound is half the tolerance.
 /// The bound is what `sim tradeoff` measures (bogie, 30 m/s, against a
 /// 0.01 m table; largest error of the lateral displacement): on
