@@ -55,37 +55,37 @@ pub struct ImportContactTableArgs {
 /// Profile pair and settings of a contact lookup table.
 #[derive(Debug, Args, Clone)]
 pub struct ContactArgs {
-    /// Wheel profile (SIMPACK .prw, two columns y z [mm], or CSV y_mm,z_mm).
+    /// Wheel profile (SIMPACK .prw, two columns y z (mm), or CSV y_mm,z_mm).
     #[arg(long, value_name = "FILE")]
     pub wheel: Option<PathBuf>,
     /// Rail profile (SIMPACK .prr, two columns, or CSV).
     #[arg(long, value_name = "FILE")]
     pub rail: Option<PathBuf>,
-    /// Distance between the flange backs [m].
+    /// Distance between the flange backs (m).
     #[arg(long, default_value_t = 1.360, value_name = "M")]
     pub back_to_back: f64,
-    /// Nominal rolling radius at the taping line [m].
+    /// Nominal rolling radius at the taping line (m).
     #[arg(long, default_value_t = 0.46, value_name = "M")]
     pub wheel_radius: f64,
-    /// Vertical load per wheel for the elastic (Hertzian) table [N].
+    /// Vertical load per wheel for the elastic (Hertzian) table (N).
     #[arg(long, value_name = "N", default_value_t = crate::contact_table::DEFAULT_WHEEL_LOAD_N)]
     pub wheel_load_n: f64,
     /// Rigid contact instead of elastic (both wheels just touching).
     #[arg(long)]
     pub rigid: bool,
-    /// Young's modulus of wheel and rail [Pa].
+    /// Young's modulus of wheel and rail (Pa).
     #[arg(long, default_value_t = 210e9, value_name = "PA")]
     pub young_pa: f64,
     /// Poisson's ratio of wheel and rail.
     #[arg(long, default_value_t = 0.3, value_name = "NU")]
     pub poisson: f64,
-    /// Lateral shifts from −A to +A [mm].
+    /// Lateral shifts from −A to +A (mm).
     #[arg(long, default_value_t = 15.0, value_name = "A")]
     pub y_range_mm: f64,
-    /// Step of the lateral shifts [mm].
+    /// Step of the lateral shifts (mm).
     #[arg(long, default_value_t = 0.1, value_name = "S")]
     pub y_step_mm: f64,
-    /// Yaw angles of the table [mrad], comma-separated (default: 0 only).
+    /// Yaw angles of the table (mrad), comma-separated (default: 0 only).
     #[arg(
         long,
         value_name = "LIST",
@@ -147,13 +147,13 @@ impl ContactArgs {
 pub struct ContactTableArgs {
     #[command(flatten)]
     pub contact: ContactArgs,
-    /// Track gauge [m].
+    /// Track gauge (m).
     #[arg(long, default_value_t = crate::config::DEFAULT_GAUGE_M, value_name = "M")]
     pub gauge: f64,
-    /// Distance between the rail profile origins [m] (default: gauge + 2 × gauge-face offset).
+    /// Distance between the rail profile origins (m) (default: gauge + 2 × gauge-face offset).
     #[arg(long, value_name = "M")]
     pub rail_spacing: Option<f64>,
-    /// Lateral offset of the gauge face from the rail profile origin [m].
+    /// Lateral offset of the gauge face from the rail profile origin (m).
     #[arg(long, default_value_t = crate::config::DEFAULT_GAUGE_FACE_OFFSET_M, value_name = "M")]
     pub gauge_face_offset: f64,
     /// Rail inclination towards the track centre: 1:40, 1:20, 0, … (0 for
@@ -171,35 +171,35 @@ pub struct ContactTableArgs {
 /// Arguments of `track-preproc build`.
 #[derive(Debug, Args)]
 pub struct BuildArgs {
-    /// Centreline control points: CSV with x, y, z [m] and optionally cant [rad] or cant_mm.
+    /// Centreline control points: CSV with x, y, z (m) and optionally cant (rad) or cant_mm.
     #[arg(long, value_name = "FILE")]
     pub centerline: PathBuf,
-    /// Cant table (overrides the centreline's cant): CSV with s and cant [rad] or cant_mm.
+    /// Cant table (overrides the centreline's cant): CSV with s and cant (rad) or cant_mm.
     #[arg(long, value_name = "FILE")]
     pub cant: Option<PathBuf>,
-    /// Irregularities: CSV s, align_left, align_right, level_left, level_right [m]
+    /// Irregularities: CSV s, align_left, align_right, level_left, level_right (m)
     /// or s, alignment, gauge, level, cross_level; `_mm` suffix allowed.
     #[arg(long, value_name = "FILE")]
     pub irregularities: Option<PathBuf>,
     /// Spline scheme for centreline, cant and rails.
     #[arg(long, default_value = "cubic", value_parser = ["cubic", "cubic-natural", "akima", "pchip"])]
     pub scheme: String,
-    /// Table step Δs [m].
+    /// Table step Δs (m).
     #[arg(long, default_value_t = crate::config::DEFAULT_STEP_M, value_name = "M")]
     pub step: f64,
-    /// Track gauge [m].
+    /// Track gauge (m).
     #[arg(long, default_value_t = crate::config::DEFAULT_GAUGE_M, value_name = "M")]
     pub gauge: f64,
-    /// Distance between the rail profile origins [m] (default: gauge + 2 × gauge-face offset).
+    /// Distance between the rail profile origins (m) (default: gauge + 2 × gauge-face offset).
     #[arg(long, value_name = "M")]
     pub rail_spacing: Option<f64>,
-    /// Lateral offset of the gauge face from the rail profile origin [m] (UIC60: 0.036).
+    /// Lateral offset of the gauge face from the rail profile origin (m) (UIC60: 0.036).
     #[arg(long, default_value_t = crate::config::DEFAULT_GAUGE_FACE_OFFSET_M, value_name = "M")]
     pub gauge_face_offset: f64,
     /// Rail inclination towards the track centre: 1:40, 1:20, 0, …
     #[arg(long, default_value = "1:40", value_name = "R")]
     pub rail_inclination: String,
-    /// Cant base e0 for cant heights, φ = asin(h/e0) [m] (default: gauge + 0.065).
+    /// Cant base e0 for cant heights, φ = asin(h/e0) (m) (default: gauge + 0.065).
     #[arg(long, value_name = "M")]
     pub cant_base: Option<f64>,
     /// Output table file (.h5), written atomically.

@@ -7,6 +7,44 @@
 //! length, cant, frame) → [`irregularity`] → [`rails`] (nodal points, re-fit,
 //! frames with cant and inclination) → [`model::TrackModel::tabulate`] →
 //! [`pipeline`] (files in, table file out).
+//!
+//! # Example: a 300 m arc of radius 600 m, built to a table file
+//!
+//! ```
+//! use preproc::{BuildConfig, BuildRequest, NoProgress, run_build};
+//!
+//! let dir = std::env::temp_dir().join(format!("preproc-doc-{}", std::process::id()));
+//! std::fs::create_dir_all(&dir)?;
+//! // Control points of the centreline (m): an arc of radius 600 m turning
+//! // left, every 5 m. (A straight joined to an arc without a transition
+//! // curve would make the cubic spline overshoot the curvature step.)
+//! let mut csv = String::from("x,y,z\n");
+//! for i in 0..=60 {
+//!     let phi = 5.0 * f64::from(i) / 600.0;
+//!     csv += &format!("{},{},0\n", 600.0 * phi.sin(), 600.0 * (1.0 - phi.cos()));
+//! }
+//! std::fs::write(dir.join("centerline.csv"), csv)?;
+//! let summary = run_build(
+//!     &BuildRequest {
+//!         centerline: dir.join("centerline.csv"),
+//!         cant: None,
+//!         irregularities: None,
+//!         output: dir.join("track.h5"),
+//!         config: BuildConfig::default(),
+//!         contact: None,
+//!         command_line: "doctest".into(),
+//!     },
+//!     &NoProgress,
+//! )?;
+//! assert!((summary.length_m - 300.0).abs() < 0.5, "{}", summary.length_m);
+//! let radius = summary.min_curve_radius_m.expect("a curve");
+//! assert!((radius - 600.0).abs() < 6.0, "{radius}");
+//! // The file reads back as the simulator reads it.
+//! let tables = runtime::schema::read_track(&dir.join("track.h5"))?;
+//! assert!(tables.centerline.range_m().1 > 299.0);
+//! std::fs::remove_dir_all(&dir)?;
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 pub mod centerline;
 pub mod cli;

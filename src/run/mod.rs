@@ -127,7 +127,7 @@ fn run_session(
     let ls = &session.scene;
     let scene = &ls.scene;
     let plan = &session.plan;
-    let integrator = session.method.clone();
+    let integrator = session.method;
     let (mut system, y0) = session.system()?;
     // With a flange guard the system stops on its own flag, set by the
     // guard or by the caller's (checked at every accepted step).

@@ -4,7 +4,7 @@
 //! tread and flange functions of the wheel separately — so the flange point
 //! may lie ahead of or behind the axle (lead/lag contact, s_w ≠ 0).
 //!
-//! Layers: [`pose`] (where the wheelset is) → `geometry` (the equations)
+//! Layers: `pose` (where the wheelset is) → `geometry` (the equations)
 //! → `newton` → `search` (cold start) → [`WheelsetContactModel`] (profiles
 //! of one wheelset, pair solves) → [`ContactSolver`] (a step: both wheels,
 //! zones, warm start, flange rule) → [`quasi_static`] (wheelset settled
@@ -14,6 +14,38 @@
 //! `Ok(None)` or a [`Candidate`] with negative penetration when the bodies do
 //! not touch, and [`ContactError::NotConverged`] (with the state) when no
 //! start converges.
+//!
+//! # Example: the contact of a centred S1002 wheelset on UIC60 rails
+//!
+//! ```
+//! # #[cfg(feature = "io")] {
+//! use runtime::contact::{ContactOptions, ContactSolver, WheelsetContactModel, WheelsetPose};
+//! use runtime::profile::{RailPlacement, RailProfileOptions, Zone};
+//! use runtime::profile_import::{ImportOptions, load_rail, load_wheel};
+//! use runtime::track::{Side, straight_track};
+//!
+//! let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tables/profiles");
+//! let opts = ImportOptions::default();
+//! let wheel = load_wheel(&dir.join("MBench_S1002_v3.prw"), &opts, Default::default())?;
+//! let rail = load_rail(&dir.join("MBench_UIC60_v3.prr"), &opts, RailProfileOptions::default())?;
+//! // Gauge 1435 mm, flange backs 1360 mm apart, rail origins 1507 mm apart
+//! // (the rail file is already canted 1:40).
+//! let placement = RailPlacement { gauge_m: 1.435, rail_spacing_m: 1.507, inclination_rad: 0.0 };
+//! let model = WheelsetContactModel::new(wheel.clone(), wheel, 1.360, &rail, &rail, placement)?;
+//! let track = straight_track(20.0, 0.1, 1.435, 1.507, 0.0);
+//! // Centred, unyawed, the axle 0.4597 m above the track plane: the treads
+//! // penetrate by a fraction of a millimetre.
+//! let pose = WheelsetPose::on_track(&track, 10.0, 0.0, 0.4597, 0.0, 0.0)?;
+//! let mut solver = ContactSolver::new(ContactOptions::default());
+//! let contacts = solver.solve(&model, &track, &pose)?;
+//! let tread = contacts.get(Side::Left, Zone::Tread).expect("the left tread touches");
+//! assert!(tread.penetration_m > 0.0 && tread.penetration_m < 1e-3, "{tread:?}");
+//! // Near the nominal radius of 0.46 m, the contact angle small.
+//! assert!((tread.rolling_radius_m - 0.46).abs() < 5e-3);
+//! assert!(tread.contact_angle_rad.abs() < 0.1);
+//! # }
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 mod candidate;
 mod geometry;

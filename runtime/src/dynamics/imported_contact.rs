@@ -661,6 +661,7 @@ mod tests {
     }
 
     #[test]
+    #[cfg(feature = "io")] // reads the shipped profiles
     fn the_source_gives_the_functions_settling_contacts_and_forces() {
         use crate::body::RigidBody;
         use crate::contact::{ContactOptions, ContactSolver, WheelsetContactModel};

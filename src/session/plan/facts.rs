@@ -357,13 +357,11 @@ pub(super) fn flange_facts(ls: &LoadedScene, check: &mut CheckModel) -> Result<F
         }
         done.push(&w.contact);
     }
-    // Written atomically; a failure to cache is not an error.
-    static WRITES: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
-    let n = WRITES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    let tmp = path.with_extension(format!("tmp{}-{n}", std::process::id()));
-    if std::fs::write(&tmp, format!("{clearance:e} {reach:e}\n")).is_ok() {
-        let _ = std::fs::rename(&tmp, &path);
-    }
+    // Written atomically (the workspace's one atomic writer); a failure to
+    // cache is not an error: the next plan measures again.
+    let _ = runtime::io::write_atomically(&path, |tmp| {
+        std::fs::write(tmp, format!("{clearance:e} {reach:e}\n"))
+    });
     Ok(facts(clearance, reach))
 }
 
