@@ -72,6 +72,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, bail, ensure};
 use runtime::creep::{CreepLaw, FastsimParams, PolachParams};
 use runtime::dynamics::track_motion::SpeedRamp;
+use runtime::dynamics::{DynamicsError, SystemSettings};
 use runtime::integrator::{Dopri5, Method, Rk4};
 use serde::{Deserialize, Serialize};
 
@@ -529,6 +530,20 @@ pub fn apply_override(table: &mut toml::Table, assignment: &str) -> Result<()> {
     Ok(())
 }
 
+/// The scene key of a runtime motion setting (its error names the setting
+/// by its meaning; the user wrote the key).
+fn scene_key(setting: &str) -> &'static str {
+    match setting {
+        "speed (m/s)" => "[initial] speed_m_s",
+        "deceleration (m/s²)" => "[initial] deceleration_m_s2",
+        "acceleration (m/s²)" => "[initial] acceleration_m_s2",
+        "final speed (m/s)" => "[initial] final_speed_m_s",
+        "axle torque (N·m)" => "[run] axle_torque_nm",
+        "axle brake torque (N·m)" => "[run] axle_brake_torque_nm",
+        _ => "[initial]/[run] motion",
+    }
+}
+
 impl Scene {
     /// Checks every rule, naming the entry.
     pub fn validate(&self) -> Result<()> {
@@ -612,44 +627,29 @@ impl Scene {
             c.min_rolling_speed_m_s
         );
         let i = &self.initial;
+        // Plausibility (a unit slip: km/h for m/s); the rules of the motion
+        // itself are the runtime's, checked once below.
         ensure!(
-            i.speed_m_s.is_finite() && i.speed_m_s >= 0.0 && i.speed_m_s <= 150.0,
-            "[initial] speed_m_s = {} must lie in [0, 150] m/s",
+            !(i.speed_m_s > 150.0),
+            "[initial] speed_m_s = {} must lie in [0, 150] m/s (check the unit: m/s, not km/h)",
             i.speed_m_s
         );
+        ensure!(
+            i.final_speed_m_s.is_none_or(|vf| !(vf.abs() > 150.0)),
+            "[initial] final_speed_m_s = {} must lie in [-150, 150] m/s (check the unit: m/s, not km/h)",
+            i.final_speed_m_s.unwrap_or_default()
+        );
         ensure!(i.s_m.is_finite(), "[initial] s_m must be finite");
-        ensure!(
-            i.deceleration_m_s2.is_finite() && i.deceleration_m_s2 >= 0.0,
-            "[initial] deceleration_m_s2 = {} must be >= 0",
-            i.deceleration_m_s2
-        );
-        ensure!(
-            i.acceleration_m_s2.is_finite() && i.acceleration_m_s2 >= 0.0,
-            "[initial] acceleration_m_s2 = {} must be >= 0",
-            i.acceleration_m_s2
-        );
-        ensure!(
-            i.acceleration_m_s2 == 0.0 || i.deceleration_m_s2 == 0.0,
-            "[initial] give acceleration_m_s2 or deceleration_m_s2, not both"
-        );
-        if let Some(vf) = i.final_speed_m_s {
-            ensure!(
-                vf.is_finite() && vf.abs() <= 150.0,
-                "[initial] final_speed_m_s = {vf} must lie in [-150, 150] m/s"
-            );
-            ensure!(
-                i.acceleration_m_s2 > 0.0 || i.deceleration_m_s2 > 0.0,
-                "[initial] final_speed_m_s needs acceleration_m_s2 or deceleration_m_s2"
-            );
-            ensure!(
-                i.acceleration_m_s2 == 0.0 || vf >= i.speed_m_s,
-                "[initial] final_speed_m_s = {vf} must be >= speed_m_s when accelerating"
-            );
-            ensure!(
-                i.deceleration_m_s2 == 0.0 || vf <= i.speed_m_s,
-                "[initial] final_speed_m_s = {vf} must be <= speed_m_s when braking"
-            );
-        }
+        self.motion_settings()
+            .validate_motion()
+            .map_err(|e| match e {
+                DynamicsError::Setting {
+                    setting,
+                    value,
+                    rule,
+                } => anyhow::anyhow!("{} = {value} {rule}", scene_key(setting)),
+                other => anyhow::anyhow!(other),
+            })?;
         ensure!(
             i.lateral_m.is_finite() && i.lateral_m.abs() <= 0.02,
             "[initial] lateral_m = {} must lie within ±0.02 m",
@@ -688,15 +688,10 @@ impl Scene {
             ("axle_brake_torque_nm", r.axle_brake_torque_nm),
         ] {
             ensure!(
-                v.is_finite() && v.abs() <= 1e6,
-                "[run] {key} = {v} must lie within ±1e6 N·m"
+                !(v.abs() > 1e6),
+                "[run] {key} = {v} must lie within ±1e6 N·m (check the unit)"
             );
         }
-        ensure!(
-            r.axle_brake_torque_nm >= 0.0,
-            "[run] axle_brake_torque_nm = {} must be >= 0 (it always opposes the spin)",
-            r.axle_brake_torque_nm
-        );
         self.method()?;
         ensure!(
             r.output_interval_s.is_finite() && r.output_interval_s > 0.0,
@@ -713,15 +708,30 @@ impl Scene {
         Ok(())
     }
 
-    /// The references' speed against time (`[initial]` speed_m_s,
-    /// acceleration_m_s2 or deceleration_m_s2, final_speed_m_s).
-    pub fn speed_ramp(&self) -> SpeedRamp {
-        let i = &self.initial;
-        SpeedRamp {
-            initial_m_s: i.speed_m_s,
-            rate_m_s2: i.acceleration_m_s2 - i.deceleration_m_s2,
-            final_m_s: i.final_speed_m_s,
+    /// The runtime's settings of the motion (speed, its ramp, axle torques,
+    /// start), the rest at their defaults: the one place the scene's
+    /// `[initial]` and `[run]` motion entries become runtime settings
+    /// (checked by [`SystemSettings::validate_motion`], completed with the
+    /// force and contact models by the session).
+    pub fn motion_settings(&self) -> SystemSettings {
+        let (i, r) = (&self.initial, &self.run);
+        SystemSettings {
+            speed_m_s: i.speed_m_s,
+            deceleration_m_s2: i.deceleration_m_s2,
+            acceleration_m_s2: i.acceleration_m_s2,
+            final_speed_m_s: i.final_speed_m_s,
+            axle_torque_nm: r.axle_torque_nm,
+            axle_brake_torque_nm: r.axle_brake_torque_nm,
+            s_start_m: i.s_m,
+            ..SystemSettings::default()
         }
+    }
+
+    /// The references' speed against time (`[initial]` speed_m_s,
+    /// acceleration_m_s2 or deceleration_m_s2, final_speed_m_s): the
+    /// runtime's ramp of [`Self::motion_settings`].
+    pub fn speed_ramp(&self) -> SpeedRamp {
+        self.motion_settings().speed_ramp()
     }
 
     /// Simulated time (s): for `distance_m`, the time the references take
@@ -874,15 +884,18 @@ mod tests {
         assert!((s.scene.duration_s() - 5.0).abs() < 1e-12);
         let s = scene(&["run.axle_torque_nm=-2000", "run.axle_brake_torque_nm=500"]).unwrap();
         assert_eq!(s.scene.run.axle_torque_nm, -2000.0);
-        let cases: [(&[&str], &str); 6] = [
+        let cases: [(&[&str], &str); 8] = [
             (
                 &["initial.acceleration_m_s2=1", "initial.deceleration_m_s2=1"],
                 "not both",
             ),
-            (&["initial.final_speed_m_s=3"], "needs acceleration_m_s2"),
+            (
+                &["initial.final_speed_m_s=3"],
+                "[initial] final_speed_m_s = 3 needs an acceleration or a deceleration",
+            ),
             (
                 &["initial.acceleration_m_s2=1", "initial.final_speed_m_s=3"],
-                ">= speed_m_s",
+                "[initial] final_speed_m_s = 3 must be >= the initial speed when accelerating",
             ),
             (
                 &[
@@ -892,8 +905,16 @@ mod tests {
                 ],
                 "never covered",
             ),
-            (&["run.axle_brake_torque_nm=-1"], "axle_brake_torque_nm"),
-            (&["run.axle_torque_nm=nan"], "axle_torque_nm"),
+            (
+                &["run.axle_brake_torque_nm=-1"],
+                "[run] axle_brake_torque_nm = -1 must be finite and >= 0",
+            ),
+            (&["run.axle_torque_nm=nan"], "[run] axle_torque_nm"),
+            (&["initial.speed_m_s=300"], "check the unit"),
+            (
+                &["initial.deceleration_m_s2=-1"],
+                "[initial] deceleration_m_s2 = -1",
+            ),
         ];
         for (o, what) in cases {
             let chain = format!("{:#}", scene(o).unwrap_err());

@@ -73,14 +73,7 @@ pub fn system_settings(
             ..ContactOptions::default()
         },
         method,
-        speed_m_s: scene.initial.speed_m_s,
-        deceleration_m_s2: scene.initial.deceleration_m_s2,
-        acceleration_m_s2: scene.initial.acceleration_m_s2,
-        final_speed_m_s: scene.initial.final_speed_m_s,
-        axle_torque_nm: scene.run.axle_torque_nm,
-        axle_brake_torque_nm: scene.run.axle_brake_torque_nm,
-        s_start_m: scene.initial.s_m,
-        ..SystemSettings::default()
+        ..scene.motion_settings()
     };
     Ok(settings)
 }
