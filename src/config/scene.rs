@@ -630,12 +630,12 @@ impl Scene {
         // Plausibility (a unit slip: km/h for m/s); the rules of the motion
         // itself are the runtime's, checked once below.
         ensure!(
-            !(i.speed_m_s > 150.0),
+            i.speed_m_s.is_nan() || i.speed_m_s <= 150.0,
             "[initial] speed_m_s = {} must lie in [0, 150] m/s (check the unit: m/s, not km/h)",
             i.speed_m_s
         );
         ensure!(
-            i.final_speed_m_s.is_none_or(|vf| !(vf.abs() > 150.0)),
+            i.final_speed_m_s.is_none_or(|vf| vf.is_nan() || vf.abs() <= 150.0),
             "[initial] final_speed_m_s = {} must lie in [-150, 150] m/s (check the unit: m/s, not km/h)",
             i.final_speed_m_s.unwrap_or_default()
         );
@@ -688,7 +688,7 @@ impl Scene {
             ("axle_brake_torque_nm", r.axle_brake_torque_nm),
         ] {
             ensure!(
-                !(v.abs() > 1e6),
+                v.is_nan() || v.abs() <= 1e6,
                 "[run] {key} = {v} must lie within ±1e6 N·m (check the unit)"
             );
         }
