@@ -26,7 +26,7 @@ pub enum Command {
     /// Critical speed per creep law: time-domain growth rates, a speed ramp, eigenvalues.
     CriticalSpeed(CriticalSpeedArgs),
     /// Speed against accuracy: the scene over the numerical knobs against a fine reference run.
-    Tradeoff(crate::studies::tradeoff::TradeoffArgs),
+    Tradeoff(super::tradeoff::TradeoffArgs),
     /// Bifurcation diagram: hunting amplitude against speed (up-scan and ramp-down).
     Bifurcation {
         /// Scene file (TOML).

@@ -2,6 +2,7 @@
 
 pub mod args;
 pub mod probe;
+pub mod tradeoff;
 
 use anyhow::{Context, Result};
 
@@ -36,7 +37,7 @@ pub fn run(cli: Cli) -> Result<()> {
         }
         Command::Run(args) => run_command(&args),
         Command::CriticalSpeed(args) => critical_speed_command(&args),
-        Command::Tradeoff(args) => crate::studies::tradeoff::command(&args),
+        Command::Tradeoff(args) => tradeoff::command(&args),
         Command::Bifurcation {
             scene,
             min,

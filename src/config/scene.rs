@@ -635,7 +635,8 @@ impl Scene {
             i.speed_m_s
         );
         ensure!(
-            i.final_speed_m_s.is_none_or(|vf| vf.is_nan() || vf.abs() <= 150.0),
+            i.final_speed_m_s
+                .is_none_or(|vf| vf.is_nan() || vf.abs() <= 150.0),
             "[initial] final_speed_m_s = {} must lie in [-150, 150] m/s (check the unit: m/s, not km/h)",
             i.final_speed_m_s.unwrap_or_default()
         );

@@ -3,3 +3,4 @@
 pub mod run_files;
 pub mod run_plots;
 pub mod run_text;
+pub mod tradeoff;
