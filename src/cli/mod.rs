@@ -66,7 +66,8 @@ pub fn run(cli: Cli) -> Result<()> {
                 let stop = stop.clone();
                 let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
             }
-            let b = crate::studies::bifurcation::bifurcation(&scene, &settings, stop)?;
+            let mut b = crate::studies::bifurcation::bifurcation(&scene, &settings, stop)?;
+            b.write(&settings.out_dir)?;
             if json {
                 println!("{}", serde_json::to_string_pretty(&b)?);
             } else {

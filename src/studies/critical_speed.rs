@@ -18,7 +18,7 @@
 //!   centred run ([`runtime::dynamics::linear`]) and the speed at which the
 //!   hunting mode's real part crosses zero is bracketed the same way.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 
@@ -623,129 +623,12 @@ pub fn ramp(
     })
 }
 
-impl CriticalSpeed {
-    /// The hunting mode at the lowest and the highest speed evaluated with
-    /// a known damping ratio: "76.0 m/s 3.19 Hz ζ +0.053; 96.0 m/s …".
-    fn mode_text(&self) -> String {
-        let known: Vec<&SpeedSample> = self
-            .samples
-            .iter()
-            .filter(|s| s.damping_ratio.is_finite())
-            .collect();
-        let (Some(lo), Some(hi)) = (known.first(), known.last()) else {
-            return String::new();
-        };
-        let one = |s: &SpeedSample| {
-            format!(
-                "{:.1} m/s {:.2} Hz ζ {:+.3}",
-                s.speed_m_s, s.frequency_hz, s.damping_ratio
-            )
-        };
-        if known.len() == 1 {
-            one(lo)
-        } else {
-            format!("{}; {}", one(lo), one(hi))
-        }
-    }
-}
-
 /// Everything `sim critical-speed` reports.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CriticalSpeedReport {
     pub scene: String,
     pub results: Vec<CriticalSpeed>,
     pub files: Vec<String>,
-}
-
-impl CriticalSpeedReport {
-    /// A table like the paper's Table 1.
-    pub fn to_text(&self) -> String {
-        let mut s = format!(
-            "critical speed, {}\n  {:<10} {:<7} {:>9} {:>9} {:>10}  {:<22} hunting mode below and above (f, ζ)\n",
-            self.scene, "creep law", "method", "m/s", "km/h", "f [Hz]", "bracket"
-        );
-        for r in &self.results {
-            match r.speed_m_s {
-                Some(v) => {
-                    s += &format!(
-                        "  {:<10} {:<7} {:>9.2} {:>9.1} {:>10.3}  {:<22} {}\n",
-                        r.creep_law,
-                        r.method,
-                        v,
-                        v * 3.6,
-                        r.frequency_hz.unwrap_or(f64::NAN),
-                        r.bracket_m_s
-                            .map(|b| format!("{:.2} … {:.2} m/s", b.0, b.1))
-                            .unwrap_or_default(),
-                        r.mode_text()
-                    )
-                }
-                None => {
-                    s += &format!(
-                        "  {:<10} {:<7} {:>9} {:>9} {:>10}  {}\n",
-                        r.creep_law,
-                        r.method,
-                        "—",
-                        "—",
-                        "—",
-                        r.note.clone().unwrap_or_default()
-                    )
-                }
-            }
-        }
-        for f in &self.files {
-            s += &format!("  wrote {f}\n");
-        }
-        s
-    }
-
-    /// Writes `rates.csv` and `rates.png` (rate against speed per law and
-    /// method) into `dir`.
-    pub fn write(&mut self, dir: &Path) -> Result<()> {
-        use preproc::plot::{LineChart, Series, SeriesStyle, write_line_chart};
-        std::fs::create_dir_all(dir)?;
-        let mut csv = String::from(
-            "creep_law,method,speed_m_s,rate_1_s,frequency_hz,damping_ratio,results\n",
-        );
-        let mut chart = LineChart::new(
-            format!("Growth rate of the hunting motion, {}", self.scene),
-            "speed [m/s]",
-            "growth rate σ [1/s] (> 0: unstable)",
-        );
-        for (k, r) in self.results.iter().enumerate() {
-            if r.method == CriticalSpeedMethod::Ramp {
-                continue;
-            }
-            let mut pts = Vec::new();
-            for s in &r.samples {
-                csv += &format!(
-                    "{},{},{},{},{},{},{}\n",
-                    r.creep_law,
-                    r.method,
-                    s.speed_m_s,
-                    s.rate_1_s,
-                    s.frequency_hz,
-                    s.damping_ratio,
-                    s.results.clone().unwrap_or_default()
-                );
-                if s.rate_1_s.is_finite() {
-                    pts.push((s.speed_m_s, s.rate_1_s));
-                }
-            }
-            chart.series.push(
-                Series::line(format!("{} ({})", r.creep_law, r.method), pts)
-                    .with_style(SeriesStyle::LineAndPoints)
-                    .with_colour(k),
-            );
-        }
-        let csv_path = dir.join("rates.csv");
-        std::fs::write(&csv_path, csv)?;
-        let png = dir.join("rates.png");
-        write_line_chart(&png, &chart, (1600, 900))?;
-        self.files.push(csv_path.display().to_string());
-        self.files.push(png.display().to_string());
-        Ok(())
-    }
 }
 
 #[cfg(test)]
