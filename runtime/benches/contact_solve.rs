@@ -1,65 +1,28 @@
 //! Criterion bench: one warm-started tread contact solve (Newton from the
 //! previous step's surface parameters), a whole wheelset step (both wheels),
 //! and a cold solve (coarse search + Newton), for S1002 on UIC60 and the
-//! ML95-like wheel on UIC60 1:20.
+//! ML95-like wheel on UIC60 1:20 (the shared `runtime::fixtures` wheelsets).
 
 use std::hint::black_box;
-use std::path::Path;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use runtime::contact::quasi_static::{Support, settle};
-use runtime::contact::{
-    ContactOptions, ContactSolver, FlangeSearch, SurfaceParams, WheelsetContactModel, WheelsetPose,
-};
-use runtime::profile::{RailPlacement, RailProfileOptions, WheelProfileOptions};
-use runtime::profile_import::{ImportOptions, load_rail, load_wheel};
-use runtime::track::{Side, straight_track};
-
-fn model(wheel: &str, radius: f64, inclination: f64) -> WheelsetContactModel {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tables/profiles");
-    let w = load_wheel(
-        &dir.join(wheel),
-        &ImportOptions::default(),
-        WheelProfileOptions {
-            nominal_radius_m: radius,
-            ..Default::default()
-        },
-    )
-    .expect("wheel profile");
-    let r = load_rail(
-        &dir.join("MBench_UIC60_v3.prr"),
-        &ImportOptions::default(),
-        RailProfileOptions::default(),
-    )
-    .expect("rail profile");
-    WheelsetContactModel::new(
-        w.clone(),
-        w,
-        1.360,
-        &r,
-        &r,
-        RailPlacement {
-            gauge_m: 1.435,
-            rail_spacing_m: 1.507,
-            inclination_rad: inclination,
-        },
-    )
-    .expect("model")
-}
+use runtime::contact::{ContactOptions, ContactSolver, FlangeSearch, SurfaceParams, WheelsetPose};
+use runtime::fixtures::wheelsets;
+use runtime::track::Side;
 
 fn bench(c: &mut Criterion) {
     for (name, m) in [
-        ("s1002_uic60", model("MBench_S1002_v3.prw", 0.46, 0.0)),
+        (
+            "s1002_uic60",
+            wheelsets::s1002_uic60().expect("S1002/UIC60"),
+        ),
         (
             "ml95_uic60_1in20",
-            model(
-                "ml95_like/ml95_like_wheel.csv",
-                0.43,
-                (1.0f64 / 40.0).atan(),
-            ),
+            wheelsets::ml95_uic60_1in20().expect("ML95-like/UIC60"),
         ),
     ] {
-        let track = straight_track(20.0, 0.1, 1.435, 1.507, m.placement().inclination_rad);
+        let track = wheelsets::straight_track_for(&m, 20.0);
         let mut solver = ContactSolver::new(ContactOptions {
             flange: FlangeSearch::Off,
             ..Default::default()

@@ -10,6 +10,9 @@
 //! [`profile_import`] (profile files). Without `io` the crate builds
 //! without HDF5.
 //!
+//! The `fixtures` feature (off by default, turns on `io`) adds
+//! `fixtures` (feature `fixtures`): test support shared by the workspace's tests and benches.
+//!
 //! Units: SI throughout (m, s, kg, N, rad). Global frame Z up; track frame
 //! `t` tangent, `n` lateral pointing left, `b = t × n` up (docs/reference/01-units-frames.md §1).
 
@@ -31,6 +34,8 @@ pub mod creepage;
 pub mod dynamics;
 pub mod element;
 pub mod elliptic;
+#[cfg(feature = "fixtures")]
+pub mod fixtures;
 pub mod hertz;
 pub mod imported_contact;
 pub mod integrator;

@@ -6,9 +6,6 @@
 //! contact, "no contact" and non-Hertzian geometry. Tolerances at each
 //! check.
 
-mod common;
-
-use common::{s1002_model, solver, track_for};
 use runtime::contact::quasi_static::{Settled, Support, settle};
 use runtime::contact::{Candidate, WheelsetContactModel};
 use runtime::contact_force::{
@@ -16,6 +13,7 @@ use runtime::contact_force::{
     hertz_shape, tangential_forces,
 };
 use runtime::creep::{CreepLaw, kalker_coefficients};
+use runtime::fixtures::wheelsets::{flange_solver, s1002_uic60, straight_track_for};
 use runtime::hertz::{HertzError, Material};
 use runtime::normal::ContactMemory;
 use runtime::profile::Zone;
@@ -31,13 +29,13 @@ struct Case {
 
 impl Case {
     fn new() -> Self {
-        let model = s1002_model();
-        let track = track_for(&model);
+        let model = s1002_uic60().unwrap();
+        let track = straight_track_for(&model, 20.0);
         Case { model, track }
     }
 
     fn settle(&self, y_m: f64, yaw_rad: f64) -> Settled {
-        let mut solver = solver();
+        let mut solver = flange_solver();
         settle(
             &self.model,
             &self.track,

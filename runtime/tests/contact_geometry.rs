@@ -3,18 +3,15 @@
 //! Newton's convergence warm and cold, lead/lag flange contact, and the
 //! error carrying the state. Tolerances are stated at each check.
 
-mod common;
-
 use std::path::Path;
 
-use common::{s1002_model, shipped, solver, track_for};
 use runtime::contact::quasi_static::{Support, flange_clearance_m, settle};
 use runtime::contact::{
     ContactError, ContactOptions, ContactSolver, FlangeSearch, SolveMethod, WheelsetContactModel,
     WheelsetPose,
 };
-use runtime::profile::{RailPlacement, RailProfile, RailProfileOptions, WheelProfileOptions, Zone};
-use runtime::profile_import::{ImportOptions, load_wheel};
+use runtime::fixtures::wheelsets::{self, flange_solver, s1002_uic60, straight_track_for};
+use runtime::profile::{RailProfile, RailProfileOptions, Zone};
 use runtime::track::Side;
 
 /// A symmetric rail head with a circular crown: curvature 1/300 mm for the
@@ -61,16 +58,8 @@ fn circular_crown_rail() -> Vec<[f64; 2]> {
     pts
 }
 
+/// The ML95-like wheel (shared fixture) on the circular-crown rail.
 fn ml95_model(inclination: f64) -> WheelsetContactModel {
-    let wheel = load_wheel(
-        &shipped("ml95_like/ml95_like_wheel.csv"),
-        &ImportOptions::default(),
-        WheelProfileOptions {
-            nominal_radius_m: 0.43,
-            ..Default::default()
-        },
-    )
-    .unwrap();
     let rail = RailProfile::from_points(
         Path::new("circular crown"),
         &circular_crown_rail(),
@@ -78,27 +67,15 @@ fn ml95_model(inclination: f64) -> WheelsetContactModel {
         RailProfileOptions::default(),
     )
     .unwrap();
-    WheelsetContactModel::new(
-        wheel.clone(),
-        wheel,
-        1.360,
-        &rail,
-        &rail,
-        RailPlacement {
-            gauge_m: 1.435,
-            rail_spacing_m: 1.507,
-            inclination_rad: inclination,
-        },
-    )
-    .unwrap()
+    wheelsets::wheelset_model(wheelsets::ml95_wheel().unwrap(), &rail, inclination).unwrap()
 }
 
 #[test]
 fn cone_on_circular_crown_gives_delta_r_2_lambda_y() {
     let (lambda, crown, r0, b0) = (0.05, 0.300, 0.43, 0.75);
     let model = ml95_model(1f64.atan2(20.0));
-    let track = track_for(&model);
-    let mut s = solver();
+    let track = straight_track_for(&model, 20.0);
+    let mut s = flange_solver();
     let clearance = flange_clearance_m(&model, Side::Left).unwrap().unwrap();
     assert!(
         (6.0e-3..8.0e-3).contains(&clearance),
@@ -144,11 +121,29 @@ fn cone_on_circular_crown_gives_delta_r_2_lambda_y() {
 /// y → −y swaps left and right exactly (to round-off: 1e-9 m, 1e-9 rad).
 #[test]
 fn lateral_symmetry_swaps_the_wheels() {
-    for model in [s1002_model(), ml95_model(1f64.atan2(20.0))] {
-        let track = track_for(&model);
+    for model in [s1002_uic60().unwrap(), ml95_model(1f64.atan2(20.0))] {
+        let track = straight_track_for(&model, 20.0);
         for y in [0.001, 0.004, 0.0065, 0.009] {
-            let a = settle(&model, &track, 10.0, y, 0.0, Support::Rigid, &mut solver()).unwrap();
-            let b = settle(&model, &track, 10.0, -y, 0.0, Support::Rigid, &mut solver()).unwrap();
+            let a = settle(
+                &model,
+                &track,
+                10.0,
+                y,
+                0.0,
+                Support::Rigid,
+                &mut flange_solver(),
+            )
+            .unwrap();
+            let b = settle(
+                &model,
+                &track,
+                10.0,
+                -y,
+                0.0,
+                Support::Rigid,
+                &mut flange_solver(),
+            )
+            .unwrap();
             assert!((a.height_m - b.height_m).abs() < 1e-9, "y = {y}");
             assert!((a.roll_rad + b.roll_rad).abs() < 1e-9, "y = {y}");
             let (al, ar) = (
@@ -175,9 +170,9 @@ fn lateral_symmetry_swaps_the_wheels() {
 /// 7 mm (paper §5; Manchester benchmark geometry).
 #[test]
 fn s1002_on_uic60_jumps_to_the_flange_between_5_and_7_mm() {
-    let model = s1002_model();
-    let track = track_for(&model);
-    let mut s = solver();
+    let model = s1002_uic60().unwrap();
+    let track = straight_track_for(&model, 20.0);
+    let mut s = flange_solver();
     let mut previous = 0.0;
     let mut flange_from = None;
     for k in 0..=20 {
@@ -210,7 +205,7 @@ fn s1002_on_uic60_jumps_to_the_flange_between_5_and_7_mm() {
 /// every solve after the first step, (iterations, cold restart, jump of u_w
 /// (m), zone, gap (m)).
 fn weave(model: &WheelsetContactModel) -> Vec<(u32, bool, f64, Zone, f64)> {
-    let track = track_for(model);
+    let track = straight_track_for(model, 20.0);
     let clearance = [Side::Left, Side::Right]
         .map(|side| flange_clearance_m(model, side).unwrap().unwrap_or(0.0));
     let mut s = ContactSolver::new(ContactOptions {
@@ -269,7 +264,7 @@ fn warm_start_converges_within_three_iterations() {
 /// where the contact point jumps (more than 2 mm between steps).
 #[test]
 fn s1002_warm_start_restarts_only_at_contact_jumps() {
-    let solves = weave(&s1002_model());
+    let solves = weave(&s1002_uic60().unwrap());
     let warm: Vec<_> = solves.iter().filter(|s| !s.1).collect();
     let within = warm.iter().filter(|s| s.0 <= 3).count();
     assert!(
@@ -291,11 +286,11 @@ fn s1002_warm_start_restarts_only_at_contact_jumps() {
 #[test]
 fn cold_start_converges_over_the_whole_range() {
     for (name, model) in [
-        ("S1002/UIC60", s1002_model()),
+        ("S1002/UIC60", s1002_uic60().unwrap()),
         ("ML95-like", ml95_model(1f64.atan2(20.0))),
     ] {
-        let track = track_for(&model);
-        let mut settle_solver = solver();
+        let track = straight_track_for(&model, 20.0);
+        let mut settle_solver = flange_solver();
         let (mut poses, mut fallbacks) = (0, 0);
         for yi in -12..=12 {
             for yaw_i in -3..=3 {
@@ -349,7 +344,7 @@ fn cold_start_converges_over_the_whole_range() {
 #[test]
 fn yaw_against_the_flange_gives_lead_and_lag_contact() {
     let model = ml95_model(1f64.atan2(20.0));
-    let track = track_for(&model);
+    let track = straight_track_for(&model, 20.0);
     let mut leads = Vec::new();
     for yaw in [0.02, -0.02] {
         let st = settle(
@@ -359,7 +354,7 @@ fn yaw_against_the_flange_gives_lead_and_lag_contact() {
             0.0085,
             yaw,
             Support::Rigid,
-            &mut solver(),
+            &mut flange_solver(),
         )
         .unwrap();
         let f = st
@@ -394,8 +389,8 @@ fn yaw_against_the_flange_gives_lead_and_lag_contact() {
 /// A solve that cannot converge is an error carrying the state.
 #[test]
 fn non_convergence_is_an_error_with_the_state() {
-    let model = s1002_model();
-    let track = track_for(&model);
+    let model = s1002_uic60().unwrap();
+    let track = straight_track_for(&model, 20.0);
     let pose = WheelsetPose::on_track(&track, 10.0, 0.003, 0.4599, 0.004, 0.0).unwrap();
     let mut s = ContactSolver::new(ContactOptions {
         flange: FlangeSearch::Off,

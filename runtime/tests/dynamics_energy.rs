@@ -6,48 +6,24 @@
 //! integrator's accuracy; with the hysteresis damping on, it can only fall.
 //! A smooth run has no NaN anywhere in its state.
 
-mod common;
-
 use nalgebra::{Matrix3, Vector3};
 use runtime::body::RigidBody;
-use runtime::contact::{ContactOptions, FlangeSearch, WheelsetContactModel};
+use runtime::contact::{ContactOptions, FlangeSearch};
 use runtime::contact_force::ContactForceSettings;
 use runtime::creep::CreepLaw;
 use runtime::dynamics::{
     InitialConditions, SystemSettings, VehicleModel, VehicleSystem, WheelsetSpec,
 };
+use runtime::fixtures::wheelsets;
 use runtime::integrator::{Method, OutputGrid, Rk4, integrate};
 use runtime::normal::NormalForceModel;
-use runtime::profile::{RailPlacement, RailProfileOptions, WheelProfileOptions};
-use runtime::profile_import::{ImportOptions, load_rail, load_wheel};
-use runtime::track::{TrackTables, straight_track};
+use runtime::track::TrackTables;
 
 /// The ML95-like wheelset (tables/vehicles/ml95_like_wheelset.toml) on
 /// UIC60 1:20 (the benchmark file's 1:40 plus 1:40 of the track).
 fn wheelset() -> (VehicleModel, TrackTables) {
-    let wheel = load_wheel(
-        &common::shipped("ml95_like/ml95_like_wheel.csv"),
-        &ImportOptions::default(),
-        WheelProfileOptions {
-            nominal_radius_m: 0.43,
-            ..Default::default()
-        },
-    )
-    .unwrap();
-    let rail = load_rail(
-        &common::shipped("MBench_UIC60_v3.prr"),
-        &ImportOptions::default(),
-        RailProfileOptions::default(),
-    )
-    .unwrap();
-    let placement = RailPlacement {
-        gauge_m: 1.435,
-        rail_spacing_m: 1.507,
-        inclination_rad: (1.0f64 / 40.0).atan(),
-    };
-    let track = straight_track(100.0, 0.1, 1.435, 1.507, placement.inclination_rad);
-    let contact =
-        WheelsetContactModel::new(wheel.clone(), wheel, 1.360, &rail, &rail, placement).unwrap();
+    let contact = wheelsets::ml95_uic60_1in20().unwrap();
+    let track = wheelsets::straight_track_for(&contact, 100.0);
     let mass = 1430.0;
     let vehicle = VehicleModel {
         name: "ML95-like wheelset".into(),

@@ -9,6 +9,7 @@
 use std::convert::Infallible;
 use std::f64::consts::PI;
 
+use runtime::fixtures::ode::{Decay, Kepler, Oscillator};
 use runtime::integrator::{
     Control, Dopri5, IntegrationStats, IntegratorError, Method, OdeSystem, OutputGrid, Rk4,
     integrate,
@@ -16,89 +17,9 @@ use runtime::integrator::{
 
 // ---------------------------------------------------------------- systems
 
-/// y′ = −λ y, y(0) = 1: y = e^(−λt).
-struct Decay {
-    lambda: f64,
-}
-
-impl OdeSystem for Decay {
-    type Error = Infallible;
-    fn rhs(&mut self, _t: f64, y: &[f64], dydt: &mut [f64]) -> Result<(), Infallible> {
-        dydt[0] = -self.lambda * y[0];
-        Ok(())
-    }
-    fn accept(&mut self, _t: f64, _y: &[f64]) -> Result<Control, Infallible> {
-        Ok(Control::Continue)
-    }
-}
-
-/// x′ = v, v′ = −ω² x, (x, v)(0) = (1, 0): x = cos ωt, v = −ω sin ωt.
-/// Records the accepted states.
-struct Oscillator {
-    omega: f64,
-    accepted: Vec<(f64, [f64; 2])>,
-}
-
-impl Oscillator {
-    fn new(omega: f64) -> Self {
-        Self {
-            omega,
-            accepted: Vec::new(),
-        }
-    }
-    fn exact(&self, t: f64) -> [f64; 2] {
-        [(self.omega * t).cos(), -self.omega * (self.omega * t).sin()]
-    }
-}
-
-impl OdeSystem for Oscillator {
-    type Error = Infallible;
-    fn rhs(&mut self, _t: f64, y: &[f64], dydt: &mut [f64]) -> Result<(), Infallible> {
-        dydt[0] = y[1];
-        dydt[1] = -self.omega * self.omega * y[0];
-        Ok(())
-    }
-    fn accept(&mut self, t: f64, y: &[f64]) -> Result<Control, Infallible> {
-        self.accepted.push((t, [y[0], y[1]]));
-        Ok(Control::Continue)
-    }
-}
-
-/// The Kepler problem r″ = −r/|r|³ (μ = 1, a = 1, period 2π), state
-/// (x, y, vx, vy), starting at perihelion with eccentricity e. Records
-/// (t, r) of accepted states.
-struct Kepler {
-    accepted: Vec<(f64, f64)>,
-}
-
-impl Kepler {
-    fn initial(e: f64) -> [f64; 4] {
-        [1.0 - e, 0.0, 0.0, ((1.0 + e) / (1.0 - e)).sqrt()]
-    }
-    fn energy(y: &[f64]) -> f64 {
-        0.5 * (y[2] * y[2] + y[3] * y[3]) - 1.0 / y[0].hypot(y[1])
-    }
-    fn angular_momentum(y: &[f64]) -> f64 {
-        y[0] * y[3] - y[1] * y[2]
-    }
-}
-
-impl OdeSystem for Kepler {
-    type Error = Infallible;
-    fn rhs(&mut self, _t: f64, y: &[f64], dydt: &mut [f64]) -> Result<(), Infallible> {
-        let r = y[0].hypot(y[1]);
-        let r3 = r * r * r;
-        dydt[0] = y[2];
-        dydt[1] = y[3];
-        dydt[2] = -y[0] / r3;
-        dydt[3] = -y[1] / r3;
-        Ok(())
-    }
-    fn accept(&mut self, t: f64, y: &[f64]) -> Result<Control, Infallible> {
-        self.accepted.push((t, y[0].hypot(y[1])));
-        Ok(Control::Continue)
-    }
-}
+// Decay, the oscillator and Kepler, with their exact solutions, are the
+// shared test problems of `runtime::fixtures::ode` (benches/integrators.rs
+// runs the same ones).
 
 // ---------------------------------------------------------------- helpers
 
@@ -185,7 +106,7 @@ fn rk4_global_error_is_fourth_order() {
     let errs: Vec<f64> = hs
         .iter()
         .map(|&h| {
-            let mut osc = Oscillator::new(1.0);
+            let mut osc = Oscillator::new(1.0).recording();
             let (stats, out) = run(&rk4(h), &mut osc, &[1.0, 0.0], period, period);
             assert_eq!(stats.steps as f64, period / h);
             max_abs_diff(&out.last().unwrap().1, &osc.exact(period))
@@ -204,7 +125,7 @@ fn rk4_hermite_output_is_fourth_order() {
     let hs: Vec<f64> = ns.iter().map(|n| period / n).collect();
     let (mut total, mut local) = (Vec::new(), Vec::new());
     for &h in &hs {
-        let mut osc = Oscillator::new(1.0);
+        let mut osc = Oscillator::new(1.0).recording();
         let (_, out) = run(&rk4(h), &mut osc, &[1.0, 0.0], period, 0.0123);
         assert!(out.len() > 500);
         total.push(
@@ -236,12 +157,6 @@ fn rk4_hermite_output_is_fourth_order() {
     }
 }
 
-/// The oscillator's exact flow over τ from (x, v).
-fn flow(omega: f64, y: &[f64], tau: f64) -> [f64; 2] {
-    let (s, c) = (omega * tau).sin_cos();
-    [y[0] * c + y[1] / omega * s, -y[0] * omega * s + y[1] * c]
-}
-
 /// Max over outputs of |output − exact flow from the containing step's
 /// start state|: the interpolant's own (local) error.
 fn local_output_error(osc: &Oscillator, out: &Outputs) -> f64 {
@@ -249,7 +164,7 @@ fn local_output_error(osc: &Oscillator, out: &Outputs) -> f64 {
         .filter_map(|(t, y)| {
             let end = osc.accepted.partition_point(|a| a.0 < *t);
             let (ta, ya) = osc.accepted[end.checked_sub(1)?];
-            Some(max_abs_diff(y, &flow(osc.omega, &ya, t - ta)))
+            Some(max_abs_diff(y, &osc.flow(&ya, t - ta)))
         })
         .fold(0.0, f64::max)
 }
@@ -263,7 +178,7 @@ fn dopri5_error_is_proportional_to_tolerance() {
     let mut osc_errs = Vec::new();
     let mut decay_errs = Vec::new();
     for &tol in &tols {
-        let mut osc = Oscillator::new(1.0);
+        let mut osc = Oscillator::new(1.0).recording();
         let (_, out) = run(&dopri5(tol), &mut osc, &[1.0, 0.0], period, period);
         let err = max_abs_diff(&out.last().unwrap().1, &osc.exact(period));
         assert!(err < 3.0 * tol, "oscillator tol {tol}: error {err}");
@@ -285,7 +200,7 @@ fn dopri5_error_is_proportional_to_tolerance() {
 #[test]
 fn dopri5_dense_output_matches_the_exact_solution() {
     for tol in [1e-5, 1e-8] {
-        let mut osc = Oscillator::new(1.0);
+        let mut osc = Oscillator::new(1.0).recording();
         let t_end = 4.0 * PI;
         let (stats, out) = run(&dopri5(tol), &mut osc, &[1.0, 0.0], t_end, 0.01);
         // Many outputs per step, on the grid, t_end last.
@@ -325,7 +240,7 @@ fn dopri5_dense_output_matches_the_exact_solution() {
 #[test]
 fn kepler_orbit_invariants_and_step_adaptation() {
     let e = 0.5;
-    let y0 = Kepler::initial(e);
+    let y0 = Kepler::new(e).initial();
     let (e0, l0) = (Kepler::energy(&y0), Kepler::angular_momentum(&y0));
     assert!((e0 + 0.5).abs() < 1e-15 && (l0 - (1.0 - e * e).sqrt()).abs() < 1e-15);
     let periods = 3.0;
@@ -343,9 +258,7 @@ fn kepler_orbit_invariants_and_step_adaptation() {
     };
 
     // Tight tolerance: invariants and the return to perihelion.
-    let mut kepler = Kepler {
-        accepted: Vec::new(),
-    };
+    let mut kepler = Kepler::new(e).recording();
     let (stats, out) = run(&dopri5(1e-9), &mut kepler, &y0, t_end, 0.05);
     let (drift_e, drift_l) = drifts(&out);
     let end_err = max_abs_diff(&out.last().unwrap().1, &y0);
@@ -374,9 +287,7 @@ fn kepler_orbit_invariants_and_step_adaptation() {
 
     // Looser tolerance: the controller overshoots on the way in and rejects
     // steps; record every attempt to see where.
-    let mut rec = Recorder::new(Kepler {
-        accepted: Vec::new(),
-    });
+    let mut rec = Recorder::new(Kepler::new(e).recording());
     let (stats, out) = run(&dopri5(1e-6), &mut rec, &y0, t_end, 0.05);
     let (drift_e, drift_l) = drifts(&out);
     let segments = dopri5_segments(&rec.events);
@@ -414,14 +325,34 @@ fn kepler_orbit_invariants_and_step_adaptation() {
     }
 
     // RK4 with 1000 steps per period.
-    let mut kepler = Kepler {
-        accepted: Vec::new(),
-    };
+    let mut kepler = Kepler::new(e).recording();
     let (_, out) = run(&rk4(2.0 * PI / 1000.0), &mut kepler, &y0, t_end, 0.05);
     let (drift_e, drift_l) = drifts(&out);
     // Measured: energy 5.3e-9, angular momentum 1.7e-9.
     assert!(drift_e < 2e-8, "RK4 energy drift {drift_e}");
     assert!(drift_l < 2e-8, "RK4 angular momentum drift {drift_l}");
+}
+
+/// Against the exact orbit (Kepler's equation, `Kepler::exact`): the
+/// global error of the outputs over 3 periods, e = 0.5.
+#[test]
+fn kepler_outputs_follow_the_exact_orbit() {
+    let kepler = Kepler::new(0.5);
+    let y0 = kepler.initial();
+    let t_end = 3.0 * Kepler::PERIOD_S;
+    let worst = |method: &Method| {
+        let (_, out) = run(method, &mut kepler.clone(), &y0, t_end, 0.05);
+        out.iter()
+            .map(|(t, y)| max_abs_diff(y, &kepler.exact(*t)))
+            .fold(0.0, f64::max)
+    };
+    let (tight, loose) = (worst(&dopri5(1e-9)), worst(&dopri5(1e-6)));
+    let fixed = worst(&rk4(Kepler::PERIOD_S / 1000.0));
+    // Measured: DOPRI5 1e-9 5.9e-7 (phase error, largest after 3 periods),
+    // 1e-6 2.1e-3; RK4 1000 steps per period 2.7e-7.
+    assert!(tight < 2e-6, "DOPRI5 1e-9: {tight}");
+    assert!(loose < 5e-3, "DOPRI5 1e-6: {loose}");
+    assert!(fixed < 1e-6, "RK4: {fixed}");
 }
 
 // ---------------------------------------------------------------- protocol
@@ -572,10 +503,8 @@ fn dopri5_segments(events: &[Event]) -> Vec<Segment> {
 
 #[test]
 fn accept_follows_the_rhs_call_at_every_accepted_state_rk4() {
-    let y0 = Kepler::initial(0.5);
-    let mut rec = Recorder::new(Kepler {
-        accepted: Vec::new(),
-    });
+    let y0 = Kepler::new(0.5).initial();
+    let mut rec = Recorder::new(Kepler::new(0.5).recording());
     let (stats, _) = run(&rk4(0.07), &mut rec, &y0, 2.0, 0.1);
     check_protocol(&rec.events, &stats, &y0);
     assert_eq!(stats.rhs_evaluations, 4 * stats.steps + 1);
@@ -604,7 +533,7 @@ fn accept_follows_the_rhs_call_at_every_accepted_state_rk4() {
 
 #[test]
 fn accept_follows_the_rhs_call_at_every_accepted_state_dopri5() {
-    let y0 = Kepler::initial(0.5);
+    let y0 = Kepler::new(0.5).initial();
     for (label, settings) in [
         (
             "heuristic first step",
@@ -625,9 +554,7 @@ fn accept_follows_the_rhs_call_at_every_accepted_state_dopri5() {
             },
         ),
     ] {
-        let mut rec = Recorder::new(Kepler {
-            accepted: Vec::new(),
-        });
+        let mut rec = Recorder::new(Kepler::new(0.5).recording());
         let (stats, _) = run(&Method::Dopri5(settings), &mut rec, &y0, 4.0 * PI, 0.1);
         check_protocol(&rec.events, &stats, &y0);
         let segments = dopri5_segments(&rec.events);
@@ -653,15 +580,11 @@ fn accept_follows_the_rhs_call_at_every_accepted_state_dopri5() {
 
 #[test]
 fn observer_calling_rhs_does_not_disturb_the_integration() {
-    let y0 = Kepler::initial(0.5);
+    let y0 = Kepler::new(0.5).initial();
     for method in [rk4(0.01), dopri5(1e-8)] {
-        let mut plain = Kepler {
-            accepted: Vec::new(),
-        };
+        let mut plain = Kepler::new(0.5).recording();
         let (stats_a, out_a) = run(&method, &mut plain, &y0, 7.0, 0.1);
-        let mut probed = Kepler {
-            accepted: Vec::new(),
-        };
+        let mut probed = Kepler::new(0.5).recording();
         let mut out_b = Vec::new();
         let mut scratch = [0.0; 4];
         let stats_b = integrate(
@@ -689,7 +612,7 @@ fn observer_calling_rhs_does_not_disturb_the_integration() {
 #[test]
 fn stop_ends_the_integration_at_the_accepted_state() {
     for method in [rk4(0.3), dopri5(1e-6)] {
-        let mut rec = Recorder::new(Oscillator::new(1.0));
+        let mut rec = Recorder::new(Oscillator::new(1.0).recording());
         rec.stop_at = Some(1.0);
         let (stats, out) = run(&method, &mut rec, &[1.0, 0.0], 10.0, 0.25);
         check_protocol(&rec.events, &stats, &[1.0, 0.0]);
@@ -723,7 +646,7 @@ fn stop_ends_the_integration_at_the_accepted_state() {
     }
     // Stop at the initial state: no step, one output.
     for method in [rk4(0.3), dopri5(1e-6)] {
-        let mut rec = Recorder::new(Oscillator::new(1.0));
+        let mut rec = Recorder::new(Oscillator::new(1.0).recording());
         rec.stop_at = Some(0.0);
         let (stats, out) = run(&method, &mut rec, &[1.0, 0.0], 10.0, 0.25);
         assert!(stats.stopped);

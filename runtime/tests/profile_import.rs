@@ -9,15 +9,14 @@
 
 use std::path::{Path, PathBuf};
 
+use runtime::fixtures::{repository_dir, test_profile};
 use runtime::profile_import::{
     ImportOptions, MIN_POINTS, ProfileFile, ProfileFormat, ProfileImportError as E, ProfileKind,
     YOrder, parse_profile, read_profile,
 };
 
 fn fixture(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data/profiles")
-        .join(name)
+    test_profile(name)
 }
 
 fn read(name: &str) -> ProfileFile {
@@ -248,7 +247,7 @@ fn synthetic_csv_in_millimetres() {
 
 #[test]
 fn shipped_copies_import_like_the_fixtures() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let root = repository_dir();
     let pairs = [
         ("tables/profiles/MBench_S1002_v3.prw", "MBench_S1002_v3.prw"),
         ("tables/profiles/MBench_UIC60_v3.prr", "MBench_UIC60_v3.prr"),

@@ -661,40 +661,19 @@ mod tests {
     }
 
     #[test]
-    #[cfg(feature = "io")] // reads the shipped profiles
+    #[cfg(feature = "fixtures")] // the shared S1002/UIC60 wheelset
     fn the_source_gives_the_functions_settling_contacts_and_forces() {
         use crate::body::RigidBody;
-        use crate::contact::{ContactOptions, ContactSolver, WheelsetContactModel};
+        use crate::contact::{ContactOptions, ContactSolver};
         use crate::dynamics::track_motion::TrackRelative;
         use crate::dynamics::{ContactContext, ContactSource, WheelsetSpec};
-        use crate::profile::{RailPlacement, RailProfileOptions, WheelProfileOptions};
-        use crate::profile_import::{ImportOptions, load_rail, load_wheel};
+        use crate::fixtures::wheelsets;
         let track = straight_track(100.0, 0.1, 1.435, 1.507, 0.0);
         let t = table();
         let g = 1.4384e11;
         let settings = ContactForceSettings {
             creep_law: CreepLaw::Heuristic,
             ..Default::default()
-        };
-        // The wheelset's profiles and solver are not used, but a wheelset
-        // has them.
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tables/profiles");
-        let wheel = load_wheel(
-            &dir.join("MBench_S1002_v3.prw"),
-            &ImportOptions::default(),
-            WheelProfileOptions::default(),
-        )
-        .unwrap();
-        let rail = load_rail(
-            &dir.join("MBench_UIC60_v3.prr"),
-            &ImportOptions::default(),
-            RailProfileOptions::default(),
-        )
-        .unwrap();
-        let placement = RailPlacement {
-            gauge_m: 1.435,
-            rail_spacing_m: 1.507,
-            inclination_rad: 0.0,
         };
         let load = 66_602.3;
         let w = WheelsetSpec {
@@ -703,8 +682,9 @@ mod tests {
                 mass_kg: 1000.0,
                 inertia_kg_m2: nalgebra::Matrix3::identity(),
             },
-            contact: WheelsetContactModel::new(wheel.clone(), wheel, 1.36, &rail, &rail, placement)
-                .unwrap(),
+            // The wheelset's profiles and solver are not used, but a
+            // wheelset has them.
+            contact: wheelsets::s1002_uic60().unwrap(),
             x_m: 0.0,
             y_m: 0.0,
             nominal_radius_m: 0.425,
