@@ -5,7 +5,7 @@
 mod common;
 
 use common::*;
-use runtime::schema;
+use runtime::io::schema;
 
 fn s1002_args(y_mm: &str, yaw_mrad: &str) -> Vec<String> {
     [

@@ -8,8 +8,8 @@
 mod common;
 
 use common::*;
-use runtime::dynamics::imported_contact::{normal_force_n, settle_imported};
-use runtime::track::straight_track;
+use runtime::geometry::track::straight_track;
+use runtime::multibody::imported_contact::{normal_force_n, settle_imported};
 
 const RSGEO: &str = "contact/cooperrider_RSGEO.dat";
 const SCENE: &str = "scenes/cooperrider_straight.toml";
@@ -48,12 +48,12 @@ fn import(dir: &std::path::Path) -> std::path::PathBuf {
 fn import_writes_the_table_and_reads_it_back_unchanged() {
     let dir = scratch("cooperrider_import");
     let h5 = import(&dir);
-    let back = runtime::schema::read_imported_contact_table(&h5).expect("read back");
+    let back = runtime::io::schema::read_imported_contact_table(&h5).expect("read back");
     let direct = preproc::rsgeo::read_rsgeo(&shipped(RSGEO)).expect("parse");
     assert_eq!(back.rows, direct.rows);
     assert_eq!(back.y_m, direct.y_m);
     assert_eq!(back.format, "rsgeo");
-    let p = runtime::schema::read_provenance(&h5).expect("provenance");
+    let p = runtime::io::schema::read_provenance(&h5).expect("provenance");
     assert!(p.command_line.contains("import-contact-table"));
     assert!(p.inputs[0].text.starts_with("#\n\"rh(51)\""));
     // Only rsgeo is a format, and a bad file names its line.

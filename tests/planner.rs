@@ -14,7 +14,7 @@ use common::*;
 use railsim::config::scene::{ContactMethodKind, FlangeMode, LoadedScene, PlanMode};
 use railsim::report::run_files::{RunRequest, run_to_files};
 use railsim::session::plan::{By, FlangeGuard, Plan, TrackFacts, build_track_range};
-use runtime::schema::read_results;
+use runtime::io::schema::read_results;
 use serde_json::Value;
 
 /// The bogie scene with its track and run length replaced.

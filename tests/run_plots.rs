@@ -256,8 +256,8 @@ fn inconsistent_results_are_not_plotted() {
 fn sim_compare_prints_the_lateral_difference_per_wheelset() {
     let dir = scratch("sim_compare_difference");
     let (a, b) = (dir.join("a.h5"), dir.join("b.h5"));
-    runtime::schema::write_results(&a, &synthetic(10.0, 6e-3)).unwrap();
-    runtime::schema::write_results(&b, &synthetic(10.0, 5e-3)).unwrap();
+    runtime::io::schema::write_results(&a, &synthetic(10.0, 6e-3)).unwrap();
+    runtime::io::schema::write_results(&b, &synthetic(10.0, 5e-3)).unwrap();
     let o = std::process::Command::new(env!("CARGO_BIN_EXE_sim"))
         .arg("compare")
         .args([&a, &a, &b])

@@ -17,7 +17,7 @@ mod common;
 use std::path::Path;
 
 use common::*;
-use runtime::{results::RunResults, schema::read_results};
+use runtime::{io::schema::read_results, results::RunResults};
 
 const KLINGEL_M: f64 = 15.957_311_601_523_154;
 

@@ -5,8 +5,8 @@
 mod common;
 
 use common::*;
-use runtime::schema;
-use runtime::track::Side;
+use runtime::geometry::track::Side;
+use runtime::io::schema;
 
 fn build(dir: &std::path::Path, name: &str, extra: &[&str]) -> std::path::PathBuf {
     let out = dir.join(format!("{name}.h5"));

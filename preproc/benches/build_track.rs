@@ -7,7 +7,7 @@ use std::path::Path;
 use criterion::{Criterion, criterion_group, criterion_main};
 use preproc::inputs::CenterlineInput;
 use preproc::{BuildConfig, NoProgress, TrackInputs, TrackModel};
-use runtime::track::Provenance;
+use runtime::geometry::track::Provenance;
 
 /// Control points every 5 m of a track alternating 500 m straights and
 /// 500 m arcs of radius 1000 m (left and right), `length_m` long, with a
@@ -63,7 +63,7 @@ fn bench(c: &mut Criterion) {
         b.iter(|| {
             let m = TrackModel::build(&inputs, &config).expect("builds");
             let t = m.tabulate(&NoProgress).expect("tabulates");
-            runtime::schema::write_track_file(&out, &t, &Provenance::default()).expect("writes")
+            runtime::io::schema::write_track_file(&out, &t, &Provenance::default()).expect("writes")
         })
     });
     group.finish();

@@ -21,7 +21,7 @@ fn main() -> anyhow::Result<()> {
     let t2 = Instant::now();
     let tables = model.tabulate(&NoProgress)?;
     let t3 = Instant::now();
-    runtime::schema::write_track_file(out, &tables, &Default::default())?;
+    runtime::io::schema::write_track_file(out, &tables, &Default::default())?;
     let t4 = Instant::now();
     println!(
         "parse {:.3} s, model {:.3} s, tabulate {:.3} s, write {:.3} s, total {:.3} s",

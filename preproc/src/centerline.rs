@@ -3,8 +3,8 @@
 //! track distance (or a separate cant table), and the track frame of
 //! docs/reference/03-track-preproc.md §3c at every s.
 
-use runtime::spline::{PiecewiseCubic, Scheme};
-use runtime::track::Frame;
+use runtime::geometry::spline::{PiecewiseCubic, Scheme};
+use runtime::geometry::track::Frame;
 
 use crate::error::{BuildError, InputError};
 use crate::inputs::{CantInput, CenterlineInput};

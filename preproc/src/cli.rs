@@ -7,9 +7,9 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
-use runtime::spline::Scheme;
+use runtime::geometry::spline::Scheme;
 
-use runtime::hertz::Material;
+use runtime::forces::hertz::Material;
 
 use crate::config::{BuildConfig, Inclination, RailSpacing};
 use crate::contact_table::{ContactTableConfig, TableSupport};
@@ -316,7 +316,7 @@ pub fn run(cli: Cli) -> Result<()> {
                 .with_context(|| format!("building {} failed", req.output.display()))?;
             sink.event(Progress::Done);
             if let (Some(dir), Some(_)) = (&args.contact.plots, &req.contact) {
-                let table = runtime::schema::read_contact_table(&req.output)?
+                let table = runtime::io::schema::read_contact_table(&req.output)?
                     .context("the contact table just written is missing")?;
                 crate::contact_plots::write_contact_plots(dir, &table)
                     .with_context(|| format!("writing plots into {}", dir.display()))?;
@@ -398,7 +398,7 @@ pub struct ImportSummary {
 }
 
 fn import_contact_table(args: &ImportContactTableArgs) -> Result<()> {
-    use runtime::track::{InputFile, Provenance};
+    use runtime::geometry::track::{InputFile, Provenance};
     let table = match args.format.as_str() {
         "rsgeo" => crate::rsgeo::read_rsgeo(&args.input)?,
         other => anyhow::bail!("--format {other}: only rsgeo is supported"),
@@ -413,7 +413,7 @@ fn import_contact_table(args: &ImportContactTableArgs) -> Result<()> {
             text,
         }],
     };
-    runtime::schema::write_imported_contact_table_file(&args.output, &table, &provenance)
+    runtime::io::schema::write_imported_contact_table_file(&args.output, &table, &provenance)
         .with_context(|| format!("writing {}", args.output.display()))?;
     let at0 = table
         .row_at(0.0)

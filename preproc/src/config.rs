@@ -4,7 +4,7 @@
 use std::fmt;
 use std::str::FromStr;
 
-use runtime::spline::Scheme;
+use runtime::geometry::spline::Scheme;
 
 use crate::error::BuildError;
 

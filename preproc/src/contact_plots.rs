@@ -5,8 +5,8 @@
 
 use std::path::Path;
 
-use runtime::contact_table::{ContactTable, ZoneEntry};
-use runtime::profile_import::{ImportOptions, read_profile};
+use runtime::contact::table::{ContactTable, ZoneEntry};
+use runtime::io::profile_import::{ImportOptions, read_profile};
 
 use crate::plot::{LineChart, PlotError, Series, SeriesStyle, write_line_chart, write_multi_panel};
 
@@ -22,7 +22,7 @@ pub enum ContactPlotError {
     #[error(transparent)]
     Plot(#[from] PlotError),
     #[error(transparent)]
-    Profile(#[from] runtime::profile_import::ProfileImportError),
+    Profile(#[from] runtime::io::profile_import::ProfileImportError),
 }
 
 const WHEEL_NAMES: [&str; 2] = ["left", "right"];
@@ -89,7 +89,7 @@ pub fn write_contact_plots(dir: &Path, table: &ContactTable) -> Result<(), Conta
             "z [mm]"
         }
     };
-    let outline = |p: &runtime::profile_import::ProfileFile, sz: f64| -> Vec<(f64, f64)> {
+    let outline = |p: &runtime::io::profile_import::ProfileFile, sz: f64| -> Vec<(f64, f64)> {
         p.points_m
             .iter()
             .map(|q| (q[0] * 1e3, sz * q[1] * 1e3))

@@ -8,17 +8,17 @@ use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 use runtime::contact::quasi_static::{Settled, Support, level_wheel_contacts, settle};
+use runtime::contact::table::{
+    ConicityTable, ContactTable, ContactTableMeta, ContactTableRow, ZoneEntry,
+};
 use runtime::contact::{
     Candidate, ContactError, ContactOptions, ContactSolver, FlangeSearch, WheelsetContactModel,
 };
-use runtime::contact_table::{
-    ConicityTable, ContactTable, ContactTableMeta, ContactTableRow, ZoneEntry,
-};
-use runtime::hertz::Material;
-use runtime::profile::{RailPlacement, RailProfileOptions, WheelProfileOptions, Zone};
-use runtime::profile_import::{ImportOptions, ProfileLoadError, load_rail, load_wheel};
-use runtime::spline::Scheme;
-use runtime::track::{Side, straight_track};
+use runtime::forces::hertz::Material;
+use runtime::geometry::profile::{RailPlacement, RailProfileOptions, WheelProfileOptions, Zone};
+use runtime::geometry::spline::Scheme;
+use runtime::geometry::track::{Side, straight_track};
+use runtime::io::profile_import::{ImportOptions, ProfileLoadError, load_rail, load_wheel};
 
 use crate::conicity::{ConicitySummary, DeltaRFunction};
 use crate::progress::{Progress, ProgressSink};

@@ -5,7 +5,7 @@
 use std::fmt;
 use std::path::PathBuf;
 
-use runtime::spline::SplineError;
+use runtime::geometry::spline::SplineError;
 
 /// Where in an input file a problem is.
 #[derive(Debug, Clone, PartialEq)]
@@ -82,7 +82,7 @@ pub enum BuildError {
         source: std::io::Error,
     },
     #[error(transparent)]
-    Write(#[from] runtime::schema::SchemaError),
+    Write(#[from] runtime::io::schema::SchemaError),
     #[error(transparent)]
     ContactTable(#[from] crate::contact_table::ContactTableBuildError),
 }

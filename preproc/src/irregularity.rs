@@ -1,7 +1,7 @@
 //! Track irregularities as cubic splines of the track distance (paper §2d,
 //! docs/reference/03-track-preproc.md §3d).
 
-use runtime::spline::{PiecewiseCubic, Scheme};
+use runtime::geometry::spline::{PiecewiseCubic, Scheme};
 
 use crate::centerline::COVERAGE_TOLERANCE_M;
 use crate::error::{BuildError, InputError};

@@ -1,7 +1,7 @@
 //! The track pre-processor of Pombo, Ambrósio & Silva (paper §2, Fig. 1;
 //! docs/reference/02-inputs.md §2–4): CSV control points, cant and irregularity tables → a smooth
 //! centreline, two rails re-fitted by their own arc length, and dense
-//! per-rail databases written to HDF5 through [`runtime::schema`].
+//! per-rail databases written to HDF5 through [`runtime::io::schema`].
 //!
 //! Pipeline: [`inputs`] (CSV parsing and rules) → [`centerline`] (fit, arc
 //! length, cant, frame) → [`irregularity`] → [`rails`] (nodal points, re-fit,
@@ -40,7 +40,7 @@
 //! let radius = summary.min_curve_radius_m.expect("a curve");
 //! assert!((radius - 600.0).abs() < 6.0, "{radius}");
 //! // The file reads back as the simulator reads it.
-//! let tables = runtime::schema::read_track(&dir.join("track.h5"))?;
+//! let tables = runtime::io::schema::read_track(&dir.join("track.h5"))?;
 //! assert!(tables.centerline.range_m().1 > 299.0);
 //! std::fs::remove_dir_all(&dir)?;
 //! # Ok::<(), Box<dyn std::error::Error>>(())

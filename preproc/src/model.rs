@@ -2,7 +2,7 @@
 //! splines — and its tabulation into the databases of paper Fig. 1.
 
 use rayon::prelude::*;
-use runtime::track::{
+use runtime::geometry::track::{
     CenterlineRow, CenterlineTable, RailRow, RailTable, Side, TrackMeta, TrackTables,
 };
 

@@ -5,8 +5,8 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use runtime::schema;
-use runtime::track::{InputFile, Provenance, TrackTables};
+use runtime::geometry::track::{InputFile, Provenance, TrackTables};
+use runtime::io::schema;
 
 use crate::config::BuildConfig;
 use crate::contact_table::{ContactTableConfig, build_contact_table, conicity_of};
@@ -176,7 +176,7 @@ pub struct ContactTableReport {
 pub fn run_contact_table(
     req: &ContactTableRequest,
     progress: &dyn ProgressSink,
-) -> Result<(runtime::contact_table::ContactTable, ContactTableReport), BuildError> {
+) -> Result<(runtime::contact::table::ContactTable, ContactTableReport), BuildError> {
     let start = Instant::now();
     let model = req.config.model()?;
     let table = build_contact_table(&model, &req.config, progress)?;

@@ -5,8 +5,8 @@
 //! inclination).
 
 use nalgebra::Vector3;
-use runtime::spline::{PiecewiseCubic, Scheme};
-use runtime::track::{Frame, Side, rail_roll_rad};
+use runtime::geometry::spline::{PiecewiseCubic, Scheme};
+use runtime::geometry::track::{Frame, Side, rail_roll_rad};
 
 use crate::centerline::Centerline;
 use crate::error::BuildError;

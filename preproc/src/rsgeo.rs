@@ -1,7 +1,7 @@
 //! Reader of DYTSI's `RSGEO.dat` contact geometry tables (the open
 //! simulator DYTSI, D. Bigoni, DTU 2011–2014, LGPL-3: `input/RSGEO/1o40/
 //! RSGEO.dat`, read there by `RSGEOTableReader`) into a
-//! [`runtime::imported_contact::ImportedContactTable`].
+//! [`runtime::contact::imported::ImportedContactTable`].
 //!
 //! # Format
 //!
@@ -27,7 +27,7 @@
 //! white space. Column 12 is not read: it is zero throughout the shipped
 //! file and DYTSI recomputes it from column 5, y and the roll
 //! (`WheelSetComponent::find_rsgeodata`). The rows describe the left wheel
-//! (see [`runtime::imported_contact`]). Every rule broken is reported with
+//! (see [`runtime::contact::imported`]). Every rule broken is reported with
 //! the file, the line and the rule.
 //!
 //! Lines, fields and numbers are read by the workspace's one table reader
@@ -40,7 +40,7 @@
 
 use std::path::Path;
 
-use runtime::imported_contact::{ImportedContactTable, ImportedRow};
+use runtime::contact::imported::{ImportedContactTable, ImportedRow};
 use runtime::io::csv::{NumberError, Separator, data_lines, parse_number, split_fields};
 
 use crate::error::InputError;
@@ -168,7 +168,7 @@ pub fn parse_rsgeo(text: &str, path: &Path) -> Result<ImportedContactTable, Inpu
         rows,
     };
     table.validate().map_err(|e| match e {
-        runtime::imported_contact::ImportedTableError::Invalid { row: Some(i), rule } => {
+        runtime::contact::imported::ImportedTableError::Invalid { row: Some(i), rule } => {
             err(Some(lines_of_rows[i]), rule)
         }
         other => err(None, other.to_string()),

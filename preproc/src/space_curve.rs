@@ -5,8 +5,8 @@
 //! sampled at any arc length.
 
 use nalgebra::Vector3;
+use runtime::geometry::spline::{PiecewiseCubic, Scheme, SplineError};
 use runtime::quadrature::gauss_legendre_8;
-use runtime::spline::{PiecewiseCubic, Scheme, SplineError};
 
 /// Why a curve could not be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

@@ -1,7 +1,7 @@
 //! The short report printed after a build (text, or JSON with `--json`).
 
-use runtime::contact_table::ContactTable;
-use runtime::track::TrackTables;
+use runtime::contact::table::ContactTable;
+use runtime::geometry::track::TrackTables;
 use serde::Serialize;
 
 use crate::conicity::ConicitySummary;

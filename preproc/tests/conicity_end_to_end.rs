@@ -12,7 +12,7 @@
 //! Rail A (`A_WRCC_SUIC519A.dat`) on both sides, its 1:40 inclination built
 //! into the file (rail inclination 0); gauge 1435.16 mm, measured 14 mm below
 //! the nominal top of rail (the file's origin, see
-//! `runtime::profile::RailProfile::placed`); back-to-back 1360 mm, flange
+//! `runtime::geometry::profile::RailProfile::placed`); back-to-back 1360 mm, flange
 //! backs 70 mm from the taping lines; cubic profile splines; the lateral
 //! grid of each `dr_ce_E*.dat` (0.1 mm). The Δr function is that of the
 //! standard's idealised wheelset: level, each wheel lowered onto its rail.

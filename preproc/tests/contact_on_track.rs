@@ -10,7 +10,7 @@ use preproc::contact_table::ContactTableConfig;
 use preproc::{BuildConfig, BuildRequest, NoProgress, build_tables};
 use runtime::contact::quasi_static::{Support, settle};
 use runtime::contact::{ContactOptions, ContactSolver, FlangeSearch, WheelsetPose};
-use runtime::track::{Side, TrackTables};
+use runtime::geometry::track::{Side, TrackTables};
 
 fn shipped(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

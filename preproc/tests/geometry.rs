@@ -8,8 +8,8 @@ use std::path::Path;
 use nalgebra::Vector3;
 use preproc::inputs::{CenterlineInput, IrregularityInput};
 use preproc::{BuildConfig, Inclination, NoProgress, RailSpacing, TrackInputs, TrackModel};
-use runtime::spline::Scheme;
-use runtime::track::{Side, TrackTables};
+use runtime::geometry::spline::Scheme;
+use runtime::geometry::track::{Side, TrackTables};
 
 fn csv(header: &str, rows: impl Iterator<Item = Vec<f64>>) -> String {
     let mut s = format!("{header}\n");
@@ -51,7 +51,7 @@ fn config(scheme: Scheme) -> BuildConfig {
 fn max_orthonormality_error(t: &TrackTables) -> f64 {
     let mut worst = 0.0_f64;
     for r in t.centerline.rows() {
-        let f = runtime::track::Frame {
+        let f = runtime::geometry::track::Frame {
             t: r.t.into(),
             n: r.n.into(),
             b: r.b.into(),
@@ -60,7 +60,7 @@ fn max_orthonormality_error(t: &TrackTables) -> f64 {
     }
     for side in Side::BOTH {
         for r in t.rail(side).rows() {
-            let f = runtime::track::Frame {
+            let f = runtime::geometry::track::Frame {
                 t: r.t.into(),
                 n: r.n.into(),
                 b: r.b.into(),
@@ -263,9 +263,11 @@ fn helix_with_grade_and_cant_matches_closed_form() {
             let dn0 = Vector3::new(-th.cos(), -th.sin(), 0.0);
             let db0 = Vector3::new(grade * th.sin(), -grade * th.cos(), 0.0) / k;
             let rail_tangent = dr + (dn0 * cant.cos() + db0 * cant.sin()) * d;
-            let expected_frame =
-                runtime::track::Frame::from_tangent(rail_tangent, cant + side.sign() * beta)
-                    .unwrap();
+            let expected_frame = runtime::geometry::track::Frame::from_tangent(
+                rail_tangent,
+                cant + side.sign() * beta,
+            )
+            .unwrap();
             worst_frame = worst_frame
                 .max((Vector3::from(row.t) - expected_frame.t).norm())
                 .max((Vector3::from(row.n) - expected_frame.n).norm())

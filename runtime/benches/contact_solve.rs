@@ -9,7 +9,7 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use runtime::contact::quasi_static::{Support, settle};
 use runtime::contact::{ContactOptions, ContactSolver, FlangeSearch, SurfaceParams, WheelsetPose};
 use runtime::fixtures::wheelsets;
-use runtime::track::Side;
+use runtime::geometry::track::Side;
 
 fn bench(c: &mut Criterion) {
     for (name, m) in [

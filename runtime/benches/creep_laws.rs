@@ -9,8 +9,10 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use runtime::creep::{CreepInput, CreepLaw, FastsimParams, PolachParams, kalker_coefficients};
-use runtime::hertz::HertzShape;
+use runtime::forces::creep::{
+    CreepInput, CreepLaw, FastsimParams, PolachParams, kalker_coefficients,
+};
+use runtime::forces::hertz::HertzShape;
 
 fn input() -> CreepInput {
     CreepInput {

@@ -8,7 +8,7 @@ use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use runtime::fixtures::ode::{Kepler, Oscillator};
-use runtime::integrator::{Dopri5, Method, OdeSystem, OutputGrid, Rk4, integrate};
+use runtime::integrators::{Dopri5, Method, OdeSystem, OutputGrid, Rk4, integrate};
 
 /// Integrate `system` from `y0` over [0, `t_end`] (s), summing the first
 /// component of every output (so the outputs are not optimised away).

@@ -4,7 +4,7 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use runtime::track::{CenterlineRow, CenterlineTable, RailRow, RailTable, Side};
+use runtime::geometry::track::{CenterlineRow, CenterlineTable, RailRow, RailTable, Side};
 
 /// A 10 km rail on a 1000 m radius arc, rows every 0.1 m.
 fn arc_rail(step: f64, length: f64, radius: f64) -> RailTable {

@@ -2,45 +2,39 @@
 //! Silva; the equations, units, frames and file formats are in the
 //! repository's `docs/reference/`).
 //!
-//! Math modules take plain structs and return plain structs; only the
-//! modules of the `io` feature (on by default) touch files: [`schema`]
-//! (the HDF5 table and results files, read and write, so the
-//! pre-processor's writer and the simulator's reader cannot drift apart)
-//! [`io`] (the one atomic file writer, the one numeric table reader) and
-//! [`profile_import`] (profile files). Without `io` the crate builds
-//! without HDF5.
+//! The folders follow the paper's pipeline:
 //!
-//! The `fixtures` feature (off by default, turns on `io`) adds
-//! `fixtures` (feature `fixtures`): test support shared by the workspace's tests and benches.
+//! - [`geometry`]: splines, the tabulated track and its frames, the wheel
+//!   and rail profiles;
+//! - [`contact`]: the contact search (Newton on the surface parameters,
+//!   tread and flange, lead/lag), quasi-static settling, Nadal's limit, our
+//!   contact lookup table and another code's imported table;
+//! - [`forces`]: Hertz, the normal force, creepages and the creep laws;
+//! - [`multibody`]: bodies, suspension elements, the vehicle, the system
+//!   y′ = f(t, y) (assemble, evaluate, energy) and its contact sources;
+//! - [`integrators`]: RK4 and DOPRI5;
+//! - [`results`]: a run's sampled results as plain data;
+//! - `io` (feature `io`, on by default): the only modules that touch files
+//!   (HDF5 table and results files, profile files, the atomic writer, the
+//!   numeric table reader). Without `io` the crate builds without HDF5.
+//!
+//! The `fixtures` feature (off by default, turns on `io`) adds `fixtures`:
+//! test support (wheelsets, ODE test problems) shared by the workspace's
+//! tests and benches.
 //!
 //! Units: SI throughout (m, s, kg, N, rad). Global frame Z up; track frame
 //! `t` tangent, `n` lateral pointing left, `b = t × n` up (docs/reference/01-units-frames.md §1).
 
-pub mod profile;
-pub mod quadrature;
-pub mod results;
-#[cfg(feature = "io")]
-pub mod schema;
-pub mod spline;
-pub mod track;
-
-pub use nalgebra::Vector3;
-pub mod body;
 pub mod contact;
-pub mod contact_force;
-pub mod contact_table;
-pub mod creep;
-pub mod creepage;
-pub mod dynamics;
-pub mod element;
-pub mod elliptic;
 #[cfg(feature = "fixtures")]
 pub mod fixtures;
-pub mod hertz;
-pub mod imported_contact;
-pub mod integrator;
+pub mod forces;
+pub mod geometry;
+pub mod integrators;
 #[cfg(feature = "io")]
 pub mod io;
-pub mod normal;
-#[cfg(feature = "io")]
-pub mod profile_import;
+pub mod multibody;
+pub mod quadrature;
+pub mod results;
+
+pub use nalgebra::Vector3;

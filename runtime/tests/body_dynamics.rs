@@ -1,4 +1,4 @@
-//! `runtime::body` and `runtime::element` integrated in time (docs/reference/08-multibody.md §8)
+//! `runtime::multibody::body` and `runtime::multibody::element` integrated in time (docs/reference/08-multibody.md §8)
 //! against closed-form solutions and conservation laws.
 //!
 //! The integrator is the classical fixed-step RK4, written here (the crate's
@@ -24,8 +24,8 @@
 //! | damped pendulum | E₀ − E vs ∫ P_diss dt | 1e-9 of E₀ − E_end |
 
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
-use runtime::body::{BodyState, RigidBody, Wrench, derivatives};
-use runtime::element::{Anchor, SpringDamper};
+use runtime::multibody::body::{BodyState, RigidBody, Wrench, derivatives};
+use runtime::multibody::element::{Anchor, SpringDamper};
 
 const G: Vector3<f64> = Vector3::new(0.0, 0.0, -9.81);
 

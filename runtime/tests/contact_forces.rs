@@ -8,16 +8,16 @@
 
 use runtime::contact::quasi_static::{Settled, Support, settle};
 use runtime::contact::{Candidate, WheelsetContactModel};
-use runtime::contact_force::{
+use runtime::fixtures::wheelsets::{flange_solver, s1002_uic60, straight_track_for};
+use runtime::forces::contact_force::{
     ContactForceError, ContactForceSettings, WheelsetMotion, contact_creepages, evaluate_contact,
     hertz_shape, tangential_forces,
 };
-use runtime::creep::{CreepLaw, kalker_coefficients};
-use runtime::fixtures::wheelsets::{flange_solver, s1002_uic60, straight_track_for};
-use runtime::hertz::{HertzError, Material};
-use runtime::normal::ContactMemory;
-use runtime::profile::Zone;
-use runtime::track::{Side, TrackTables};
+use runtime::forces::creep::{CreepLaw, kalker_coefficients};
+use runtime::forces::hertz::{HertzError, Material};
+use runtime::forces::normal::ContactMemory;
+use runtime::geometry::profile::Zone;
+use runtime::geometry::track::{Side, TrackTables};
 
 const LOAD_N: f64 = 50e3;
 const SPEED_M_S: f64 = 30.0;
@@ -107,7 +107,7 @@ fn yawed_wheelset_lateral_creepage_and_force_direction() {
     // The spin parts (opposite on the two wheels) cancel in the sum, which
     // is 2 G a b c22 ψ to within the small left/right differences.
     let c = main_contact(&st, Side::Left);
-    let hz = runtime::hertz::HertzContact::from_shape(
+    let hz = runtime::forces::hertz::HertzContact::from_shape(
         &hertz_shape(&c).unwrap(),
         LOAD_N,
         &settings.material,
@@ -128,7 +128,7 @@ fn yawed_wheelset_lateral_creepage_and_force_direction() {
 /// so its contact point moves backwards over the rail, ξ = (r₀ − r)/r₀ < 0
 /// (Wickens 2003 eq. 2.10), and the creep force pushes it forwards; the
 /// right wheel the opposite. Spin φ = −sin γ / r₀ on the left tread and
-/// +sin γ / r₀ on the right (docs/reference/01-units-frames.md §1 frames, `runtime::creepage`).
+/// +sin γ / r₀ on the right (docs/reference/01-units-frames.md §1 frames, `runtime::forces::creepage`).
 #[test]
 fn shifted_wheelset_longitudinal_creepage_and_spin() {
     let case = Case::new();

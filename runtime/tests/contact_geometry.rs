@@ -11,8 +11,8 @@ use runtime::contact::{
     WheelsetPose,
 };
 use runtime::fixtures::wheelsets::{self, flange_solver, s1002_uic60, straight_track_for};
-use runtime::profile::{RailProfile, RailProfileOptions, Zone};
-use runtime::track::Side;
+use runtime::geometry::profile::{RailProfile, RailProfileOptions, Zone};
+use runtime::geometry::track::Side;
 
 /// A symmetric rail head with a circular crown: curvature 1/300 mm for the
 /// first 18 mm of arc either side of the top, blended (raised cosine over

@@ -8,7 +8,7 @@
 //! a/b = 1.5 (a = 6 mm, b = 4 mm), 0.3 (3 mm × 10 mm) and 3 (9 mm × 3 mm).
 //! Run with `--nocapture` to see the measured figures.
 
-use runtime::creep::{
+use runtime::forces::creep::{
     CreepForces, CreepInput, CreepLaw, FastsimParams, PolachParams, SlipVelocityFriction,
     kalker_coefficients,
 };

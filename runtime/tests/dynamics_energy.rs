@@ -7,17 +7,17 @@
 //! A smooth run has no NaN anywhere in its state.
 
 use nalgebra::{Matrix3, Vector3};
-use runtime::body::RigidBody;
 use runtime::contact::{ContactOptions, FlangeSearch};
-use runtime::contact_force::ContactForceSettings;
-use runtime::creep::CreepLaw;
-use runtime::dynamics::{
+use runtime::fixtures::wheelsets;
+use runtime::forces::contact_force::ContactForceSettings;
+use runtime::forces::creep::CreepLaw;
+use runtime::forces::normal::NormalForceModel;
+use runtime::geometry::track::TrackTables;
+use runtime::integrators::{Method, OutputGrid, Rk4, integrate};
+use runtime::multibody::body::RigidBody;
+use runtime::multibody::{
     InitialConditions, SystemSettings, VehicleModel, VehicleSystem, WheelsetSpec,
 };
-use runtime::fixtures::wheelsets;
-use runtime::integrator::{Method, OutputGrid, Rk4, integrate};
-use runtime::normal::NormalForceModel;
-use runtime::track::TrackTables;
 
 /// The ML95-like wheelset (tables/vehicles/ml95_like_wheelset.toml) on
 /// UIC60 1:20 (the benchmark file's 1:40 plus 1:40 of the track).

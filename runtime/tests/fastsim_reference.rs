@@ -90,7 +90,9 @@
 use std::f64::consts::PI;
 use std::time::Instant;
 
-use runtime::creep::{CreepForces, CreepInput, CreepLaw, FastsimParams, kalker_coefficients};
+use runtime::forces::creep::{
+    CreepForces, CreepInput, CreepLaw, FastsimParams, kalker_coefficients,
+};
 
 const G_PA: f64 = 82e9;
 const N_N: f64 = 82e3;
@@ -238,7 +240,7 @@ fn ellipsoidal_pure_creepage_converges_to_polach() {
 }
 
 /// Spin-moment ratios of the continuum simplified theory to Kalker's linear
-/// theory (see `runtime::creep` FASTSIM docs): R_η = (3π/32)(C22/C23)√(a/b),
+/// theory (see `runtime::forces::creep` FASTSIM docs): R_η = (3π/32)(C22/C23)√(a/b),
 /// R_φ = (32/(15π))(C23/C33)(b/a)^1.5.
 fn spin_moment_ratios(a: f64, b: f64) -> (f64, f64) {
     let c = kalker_coefficients(a / b, NU).unwrap();

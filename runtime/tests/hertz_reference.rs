@@ -1,4 +1,4 @@
-//! `runtime::elliptic` and `runtime::hertz` (docs/reference/07-contact-forces.md §7.1) against SciPy and
+//! `runtime::forces::elliptic` and `runtime::forces::hertz` (docs/reference/07-contact-forces.md §7.1) against SciPy and
 //! mpmath.
 //!
 //! The reference values in `tests/data/hertz_reference.json` are produced by
@@ -25,7 +25,7 @@
 //! the script prints SciPy's distance from mpmath). The mpmath comparison
 //! shows what the implementation actually achieves; the largest errors there
 //! are 1 − e² and E(e) of the most elongated ellipses (ratio ≥ 1e8), where
-//! e²/2 − S₁ and E = K(1 − Σ) lose ~log₂K bits (see `runtime::hertz`). A reference value that is
+//! e²/2 − S₁ and E = K(1 − Σ) lose ~log₂K bits (see `runtime::forces::hertz`). A reference value that is
 //! exactly 0 (e of the circle) must be matched exactly.
 //!
 //! Hertz cases: A/B from 1e-3 to 1e3 (including 1) at three curvature scales,
@@ -38,8 +38,8 @@
 use std::collections::BTreeMap;
 use std::sync::OnceLock;
 
-use runtime::elliptic::{ellipke_m, ellipke_mc};
-use runtime::hertz::{HertzContact, HertzShape, MAX_CURVATURE_RATIO, Material};
+use runtime::forces::elliptic::{ellipke_m, ellipke_mc};
+use runtime::forces::hertz::{HertzContact, HertzShape, MAX_CURVATURE_RATIO, Material};
 use serde::{Deserialize, Deserializer};
 
 /// K, E against SciPy (module docs).

@@ -1,4 +1,4 @@
-//! Reference tests of `runtime::integrator` against known solutions:
+//! Reference tests of `runtime::integrators` against known solutions:
 //! exponential decay, the harmonic oscillator and the Kepler problem
 //! (convergence orders, tolerance proportionality, dense output), plus the
 //! accept protocol, stopping, non-finite right-hand sides and settings.
@@ -10,7 +10,7 @@ use std::convert::Infallible;
 use std::f64::consts::PI;
 
 use runtime::fixtures::ode::{Decay, Kepler, Oscillator};
-use runtime::integrator::{
+use runtime::integrators::{
     Control, Dopri5, IntegrationStats, IntegratorError, Method, OdeSystem, OutputGrid, Rk4,
     integrate,
 };

@@ -1,5 +1,5 @@
 //! Drop tests of the Hertz + Lankarani–Nikravesh normal force
-//! (`runtime::normal`, paper eq. 22, docs/reference/07-contact-forces.md §7.2).
+//! (`runtime::forces::normal`, paper eq. 22, docs/reference/07-contact-forces.md §7.2).
 //!
 //! A rigid mass m = 1000 kg (about a quarter of a loaded wheelset's share of
 //! a vehicle) falls on a rail with a Hertz contact of a wheel of radius
@@ -9,7 +9,7 @@
 //! (δ = −z, δ̇ = −ż). Integration: classical fixed-step RK4 written here,
 //! dt = 1 µs, i.e. ≥ 2000 steps per contact (contacts last 2–4 ms); the
 //! memory of the contact is committed at each accepted state and held fixed
-//! over the stages of a step (the protocol of `runtime::normal`).
+//! over the stages of a step (the protocol of `runtime::forces::normal`).
 //!
 //! **Rebound ratio** (gravity off, so that the ratio measures the contact
 //! law alone: with gravity on, the impulse m·g·t_contact would change the
@@ -46,8 +46,8 @@
 //! 0.5 mm (e = 0.9) keeps 4.905 → 3.862 → 3.009 → 2.314 J after three
 //! bounces.
 
-use runtime::hertz::{HertzShape, Material};
-use runtime::normal::{ContactMemory, ContactPhase, NormalForceModel};
+use runtime::forces::hertz::{HertzShape, Material};
+use runtime::forces::normal::{ContactMemory, ContactPhase, NormalForceModel};
 
 const MASS_KG: f64 = 1000.0;
 const G_M_S2: f64 = 9.81;

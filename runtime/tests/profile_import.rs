@@ -10,7 +10,7 @@
 use std::path::{Path, PathBuf};
 
 use runtime::fixtures::{repository_dir, test_profile};
-use runtime::profile_import::{
+use runtime::io::profile_import::{
     ImportOptions, MIN_POINTS, ProfileFile, ProfileFormat, ProfileImportError as E, ProfileKind,
     YOrder, parse_profile, read_profile,
 };

@@ -6,8 +6,8 @@ use std::process::Command;
 use std::sync::{RwLock, RwLockReadGuard};
 
 use runtime::contact::nadal::{NadalLimit, nadal_limit};
+use runtime::io::schema::{RESULTS_SCHEMA_VERSION, SchemaError, read_results, write_results};
 use runtime::results::{ResultsError, RunResults, WheelSample, WheelsetSample, ZoneSample};
-use runtime::schema::{RESULTS_SCHEMA_VERSION, SchemaError, read_results, write_results};
 
 /// Spawning `h5dump` forks this process: the child inherits the file
 /// descriptors (and HDF5's file locks) of files other tests have open at

@@ -1,4 +1,4 @@
-//! `runtime::spline::PiecewiseCubic` against SciPy.
+//! `runtime::geometry::spline::PiecewiseCubic` against SciPy.
 //!
 //! The reference values in `tests/data/spline_reference.json` are produced by
 //! `tests/data/make_spline_reference.py` (SciPy `CubicSpline` not-a-knot and
@@ -32,7 +32,7 @@
 
 use std::sync::OnceLock;
 
-use runtime::spline::{PiecewiseCubic, Scheme};
+use runtime::geometry::spline::{PiecewiseCubic, Scheme};
 use serde::{Deserialize, Deserializer};
 
 /// Relative tolerance (module docs).

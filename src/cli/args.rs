@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
-use runtime::creep::CreepLaw;
+use runtime::forces::creep::CreepLaw;
 
 /// Railway vehicle dynamics on pre-processed track tables.
 #[derive(Debug, Parser)]
@@ -362,7 +362,7 @@ impl CreepCurveArgs {
                 material,
             )?,
         };
-        let mut fastsim = runtime::creep::FastsimParams::default();
+        let mut fastsim = runtime::forces::creep::FastsimParams::default();
         if let Some(k) = self.fastsim_strips {
             fastsim.strips = k;
         }
@@ -390,7 +390,7 @@ impl ContactArgs {
     pub fn to_rolling(&self) -> Result<crate::studies::contact::Rolling> {
         let creep_law = CreepLaw::from_name(&self.creep)
             .with_context(|| format!("--creep {}: unknown creep law", self.creep))?;
-        let settings = runtime::contact_force::ContactForceSettings {
+        let settings = runtime::forces::contact_force::ContactForceSettings {
             material: crate::studies::contact::material(self.young_pa, self.poisson),
             friction_coefficient: self.mu,
             creep_law,

@@ -83,7 +83,7 @@ pub fn run(cli: Cli) -> Result<()> {
         } => {
             let mut loaded = Vec::new();
             for p in &runs {
-                let r = runtime::schema::read_results(p)
+                let r = runtime::io::schema::read_results(p)
                     .with_context(|| format!("reading {}", p.display()))?;
                 let label = format!(
                     "{} m/s, {}",

@@ -5,8 +5,8 @@
 use std::path::Path;
 
 use anyhow::{Context, Result};
-use runtime::schema;
-use runtime::track::{Side, TrackTables};
+use runtime::geometry::track::{Side, TrackTables};
+use runtime::io::schema;
 use serde::Serialize;
 
 /// One rail at the probed distance.

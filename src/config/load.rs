@@ -17,7 +17,7 @@
 //! ```
 //!
 //! How the loads are applied: as elements of zero stiffness and damping
-//! whose preload is the force (`runtime::element`: f = f₀ − K(Δ − Δ₀) −
+//! whose preload is the force (`runtime::multibody::element`: f = f₀ − K(Δ − Δ₀) −
 //! CΔ̇ = f₀), between a track-following reference (its axes are the track
 //! frame t, n, b at the wheelset, so the force follows the track) and the
 //! wheelset's centre; the yaw moment is a couple of two such lateral

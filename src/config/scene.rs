@@ -70,10 +70,10 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail, ensure};
-use runtime::creep::{CreepLaw, FastsimParams, PolachParams};
-use runtime::dynamics::track_motion::SpeedRamp;
-use runtime::dynamics::{DynamicsError, SystemSettings};
-use runtime::integrator::{Dopri5, Method, Rk4};
+use runtime::forces::creep::{CreepLaw, FastsimParams, PolachParams};
+use runtime::integrators::{Dopri5, Method, Rk4};
+use runtime::multibody::track_motion::SpeedRamp;
+use runtime::multibody::{DynamicsError, SystemSettings};
 use serde::{Deserialize, Serialize};
 
 pub use super::choices::{
@@ -145,7 +145,7 @@ pub struct ContactSection {
     /// `online` (Newton at every evaluation), `table` (contact lookup
     /// table, built on demand for the wheel/rail pair and cached) or
     /// `imported` (one contact per wheel from a table computed by another
-    /// code, `imported_table`; `runtime::dynamics::imported_contact`).
+    /// code, `imported_table`; `runtime::multibody::imported_contact`).
     #[serde(default = "default_method")]
     pub method: ContactMethodKind,
     /// With `method = "imported"`: the table, for every wheelset — a `.h5`
@@ -188,7 +188,7 @@ pub struct ContactSection {
     /// Where the contact geometry is not Hertzian (conformal): `stop` (the
     /// run ends with a diagnostic naming the time, wheel, zone and state)
     /// or `floor` (go on with floored curvatures, flagged and counted;
-    /// `runtime::contact_force::NonHertzianPolicy`).
+    /// `runtime::forces::contact_force::NonHertzianPolicy`).
     #[serde(default = "default_non_hertzian")]
     pub non_hertzian: NonHertzianMode,
 }
@@ -257,7 +257,7 @@ pub struct InitialSection {
     #[serde(default)]
     pub acceleration_m_s2: f64,
     /// Speed where the ramp ends and is held (m/s); below 0 with a
-    /// deceleration, a reversal (`runtime::dynamics::track_motion::SpeedRamp`).
+    /// deceleration, a reversal (`runtime::multibody::track_motion::SpeedRamp`).
     #[serde(default)]
     pub final_speed_m_s: Option<f64>,
 }
@@ -296,7 +296,7 @@ pub struct RunSection {
     #[serde(default)]
     pub axle_torque_nm: f64,
     /// Friction brake on every axle (N·m, ≥ 0): opposes the spin and holds
-    /// the wheelset at standstill (`runtime::dynamics::SystemSettings`).
+    /// the wheelset at standstill (`runtime::multibody::SystemSettings`).
     #[serde(default)]
     pub axle_brake_torque_nm: f64,
     /// The largest error of any wheelset's lateral displacement (m) the run

@@ -29,7 +29,7 @@ pub fn write_run(
     output: &Path,
     plots: Option<&Path>,
 ) -> Result<RunSummary> {
-    runtime::schema::write_results(output, &outcome.results)
+    runtime::io::schema::write_results(output, &outcome.results)
         .with_context(|| format!("writing the results {}", output.display()))?;
     outcome.summary.output = output.display().to_string();
     if let Some(dir) = plots.filter(|_| !outcome.results.is_empty()) {

@@ -17,7 +17,7 @@
 //!   contact; `runtime::contact::ContactOptions`, always on), and, with
 //!   `[contact] non_hertzian = "floor"`, ellipses from floored curvatures
 //!   where the geometry is not Hertzian
-//!   (`runtime::contact_force::NonHertzianPolicy`; the default `stop` ends
+//!   (`runtime::forces::contact_force::NonHertzianPolicy`; the default `stop` ends
 //!   the run with the diagnostic instead).
 //! - **Nadal's criterion** per wheel ([`runtime::contact::nadal`]): the
 //!   largest Y/Q of the samples and of its sliding mean over 2 m of track
@@ -34,13 +34,13 @@
 
 use std::ops::{Deref, DerefMut};
 
-use runtime::body::BodyState;
 use runtime::contact::ContactError;
-use runtime::contact_force::ContactForceError;
-use runtime::dynamics::track_motion::{project_s, track_relative, track_rotation};
-use runtime::dynamics::{DynamicsError, VehicleSystem};
-use runtime::hertz::HertzError;
-use runtime::integrator::{Control, IntegrationStats, IntegratorError, OdeSystem};
+use runtime::forces::contact_force::ContactForceError;
+use runtime::forces::hertz::HertzError;
+use runtime::integrators::{Control, IntegrationStats, IntegratorError, OdeSystem};
+use runtime::multibody::body::BodyState;
+use runtime::multibody::track_motion::{project_s, track_relative, track_rotation};
+use runtime::multibody::{DynamicsError, VehicleSystem};
 use runtime::results::{WHEEL_GROUPS, WheelsetSeries};
 use serde::Serialize;
 
@@ -244,7 +244,7 @@ type Classified = (
 
 /// Kind, time, wheelset, wheel and zone named by a dynamics error.
 fn classify(e: &DynamicsError) -> Classified {
-    let place = |side: &runtime::track::Side, zone: &runtime::profile::Zone| {
+    let place = |side: &runtime::geometry::track::Side, zone: &runtime::geometry::profile::Zone| {
         Some((side.name().to_string(), zone.name().to_string()))
     };
     match e {
@@ -661,8 +661,8 @@ mod tests {
     #[test]
     fn errors_are_classified_with_their_place() {
         use runtime::contact::SurfaceParams;
-        use runtime::profile::Zone;
-        use runtime::track::Side;
+        use runtime::geometry::profile::Zone;
+        use runtime::geometry::track::Side;
         let e = DynamicsError::Contact {
             wheelset: "rear".into(),
             t_s: 1.5,

@@ -3,7 +3,7 @@
 //! (the report layer). The track tables (and, with
 //! `method = "table"`, the contact lookup tables) are built on demand and
 //! cached ([`crate::session::cache`]); the vehicle file becomes a
-//! `runtime::dynamics::VehicleModel`; the system is integrated with the scene's method while
+//! `runtime::multibody::VehicleModel`; the system is integrated with the scene's method while
 //! outputs are sampled at the scene's interval. Ctrl-C (a stop flag) ends
 //! the run at the next accepted step with the results so far, as does a
 //! failure (derailment, a contact that cannot be solved): the error is
@@ -21,8 +21,8 @@ use std::time::Instant;
 use summary::wheelset_summaries;
 
 use anyhow::{Context, Result, anyhow};
-use runtime::dynamics::Recorder;
-use runtime::integrator::{IntegrationStats, OutputGrid, integrate};
+use runtime::integrators::{IntegrationStats, OutputGrid, integrate};
+use runtime::multibody::Recorder;
 use runtime::results::RunResults;
 
 use crate::config::scene::LoadedScene;

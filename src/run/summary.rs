@@ -4,7 +4,7 @@
 use crate::config::scene::{ContactMethodKind, CreepLawName, IntegratorKind};
 use crate::session::track::TrackSource;
 
-use runtime::dynamics::EnergyLedger;
+use runtime::multibody::EnergyLedger;
 use runtime::results::RunResults;
 use serde::Serialize;
 
@@ -29,7 +29,7 @@ pub struct WheelsetSummary {
 }
 
 /// The energy bookkeeping of a run (J;
-/// `runtime::dynamics::EnergyLedger`): E − E0 = axle torque work +
+/// `runtime::multibody::EnergyLedger`): E − E0 = axle torque work +
 /// reference work + element turning work − creep, contact damping and
 /// damper dissipation, up to `residual_j`.
 #[derive(Debug, Clone, Serialize, PartialEq)]

@@ -8,10 +8,10 @@ use std::sync::Arc;
 use anyhow::{Context, Result};
 use preproc::NoProgress;
 use preproc::contact_table::{ContactTableConfig, TableSupport, build_contact_table};
-use runtime::contact_table::ContactTable;
-use runtime::hertz::Material;
-use runtime::imported_contact::ImportedContactTable;
-use runtime::track::{InputFile, Provenance, TrackTables};
+use runtime::contact::imported::ImportedContactTable;
+use runtime::contact::table::ContactTable;
+use runtime::forces::hertz::Material;
+use runtime::geometry::track::{InputFile, Provenance, TrackTables};
 
 use crate::config::vehicle::VehicleFile;
 use crate::session::cache::{Fnv64, cache_dir};
@@ -24,7 +24,7 @@ pub fn imported_table(path: &Path) -> Result<ImportedContactTable> {
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("h5") || e.eq_ignore_ascii_case("hdf5"));
     if hdf5 {
-        runtime::schema::read_imported_contact_table(path)
+        runtime::io::schema::read_imported_contact_table(path)
             .with_context(|| format!("imported contact table {}", path.display()))
     } else {
         preproc::rsgeo::read_rsgeo(path)
@@ -78,7 +78,11 @@ pub fn contact_tables(
         let path = cache_dir()?.join(format!("contact-{key:016x}.h5"));
         let cached = path
             .exists()
-            .then(|| runtime::schema::read_contact_table(&path).ok().flatten())
+            .then(|| {
+                runtime::io::schema::read_contact_table(&path)
+                    .ok()
+                    .flatten()
+            })
             .flatten();
         let table = match cached {
             Some(t) => t,
@@ -99,7 +103,7 @@ pub fn contact_tables(
                     })
                 })
                 .collect::<Result<Vec<_>>>()?;
-                runtime::schema::write_contact_table_file(
+                runtime::io::schema::write_contact_table_file(
                     &path,
                     &table,
                     &Provenance {

@@ -4,10 +4,10 @@
 
 use anyhow::{Result, ensure};
 use nalgebra::Vector3;
-use runtime::body::BodyState;
-use runtime::dynamics::track_motion::track_rotation;
-use runtime::dynamics::{ElementSpec, End, ReferenceSpec, VehicleModel};
-use runtime::track::TrackTables;
+use runtime::geometry::track::TrackTables;
+use runtime::multibody::body::BodyState;
+use runtime::multibody::track_motion::track_rotation;
+use runtime::multibody::{ElementSpec, End, ReferenceSpec, VehicleModel};
 
 use crate::config::load::{LoadSection, PerturbationSection, YAW_COUPLE_ARM_M, YAW_DAMPING_RATIO};
 

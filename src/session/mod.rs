@@ -15,9 +15,9 @@ pub mod vehicle;
 use std::time::Instant;
 
 use anyhow::{Context, Result};
-use runtime::dynamics::{InitialConditions, SystemSettings, VehicleModel, VehicleSystem};
-use runtime::integrator::Method;
-use runtime::track::TrackTables;
+use runtime::geometry::track::TrackTables;
+use runtime::integrators::Method;
+use runtime::multibody::{InitialConditions, SystemSettings, VehicleModel, VehicleSystem};
 
 use crate::config::scene::LoadedScene;
 use crate::config::vehicle::VehicleFile;

@@ -8,13 +8,13 @@ use std::sync::Arc;
 
 use anyhow::{Context, Result};
 use runtime::contact::{ContactOptions, FlangeSearch};
-use runtime::contact_force::ContactForceSettings;
-use runtime::creepage::CreepageOptions;
-use runtime::dynamics::imported_contact::ImportedContactMethod;
-use runtime::dynamics::{ContactMethod, SystemSettings};
-use runtime::hertz::Material;
-use runtime::normal::NormalForceModel;
-use runtime::track::TrackTables;
+use runtime::forces::contact_force::ContactForceSettings;
+use runtime::forces::creepage::CreepageOptions;
+use runtime::forces::hertz::Material;
+use runtime::forces::normal::NormalForceModel;
+use runtime::geometry::track::TrackTables;
+use runtime::multibody::imported_contact::ImportedContactMethod;
+use runtime::multibody::{ContactMethod, SystemSettings};
 
 use crate::config::scene::LoadedScene;
 use crate::config::vehicle::VehicleFile;

@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use preproc::{BuildConfig, BuildRequest, Inclination, NoProgress, run_build};
-use runtime::track::TrackTables;
+use runtime::geometry::track::TrackTables;
 use serde::Serialize;
 
 use crate::config::scene::LoadedScene;
@@ -36,7 +36,7 @@ pub fn load_track(ls: &LoadedScene) -> Result<(TrackTables, TrackSource)> {
             ..BuildConfig::default()
         }
         .rail_spacing_m();
-        let tables = runtime::track::straight_track(
+        let tables = runtime::geometry::track::straight_track(
             length_m,
             t.step_m,
             t.gauge_m,
@@ -54,7 +54,7 @@ pub fn load_track(ls: &LoadedScene) -> Result<(TrackTables, TrackSource)> {
     }
     if let Some(p) = &t.tables {
         let path = ls.path(p);
-        let tables = runtime::schema::read_track(&path)?;
+        let tables = runtime::io::schema::read_track(&path)?;
         return Ok((
             tables,
             TrackSource {
@@ -99,7 +99,7 @@ pub fn load_track(ls: &LoadedScene) -> Result<(TrackTables, TrackSource)> {
     }
     let path = cache_dir()?.join(format!("track-{:016x}.h5", key.finish()));
     if path.exists()
-        && let Ok(tables) = runtime::schema::read_track(&path)
+        && let Ok(tables) = runtime::io::schema::read_track(&path)
     {
         return Ok((
             tables,
@@ -121,7 +121,7 @@ pub fn load_track(ls: &LoadedScene) -> Result<(TrackTables, TrackSource)> {
         command_line: format!("sim run {} (tables built on demand)", ls.origin),
     };
     run_build(&req, &NoProgress).context("building the track tables")?;
-    let tables = runtime::schema::read_track(&path)?;
+    let tables = runtime::io::schema::read_track(&path)?;
     Ok((
         tables,
         TrackSource {

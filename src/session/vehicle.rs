@@ -5,12 +5,12 @@ use std::path::Path;
 
 use anyhow::{Context, Result, anyhow, ensure};
 use nalgebra::{Matrix3, Vector3};
-use runtime::body::RigidBody;
 use runtime::contact::WheelsetContactModel;
-use runtime::dynamics::{BodySpec, ElementSpec, End, ReferenceSpec, VehicleModel, WheelsetSpec};
-use runtime::profile::{RailPlacement, RailProfileOptions, WheelProfileOptions};
-use runtime::profile_import::{ImportOptions, load_rail, load_wheel};
-use runtime::track::TrackTables;
+use runtime::geometry::profile::{RailPlacement, RailProfileOptions, WheelProfileOptions};
+use runtime::geometry::track::TrackTables;
+use runtime::io::profile_import::{ImportOptions, load_rail, load_wheel};
+use runtime::multibody::body::RigidBody;
+use runtime::multibody::{BodySpec, ElementSpec, End, ReferenceSpec, VehicleModel, WheelsetSpec};
 
 use crate::config::vehicle::{GROUND, VehicleFile};
 

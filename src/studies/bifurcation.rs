@@ -117,7 +117,7 @@ pub fn bifurcation(
                 let r = run_scene(&s, &mut |_| {}, Some(stop.clone()))
                     .with_context(|| format!("the run at {v} m/s"))?
                     .results;
-                runtime::schema::write_results(&output, &r)
+                runtime::io::schema::write_results(&output, &r)
                     .with_context(|| format!("writing the run at {v} m/s"))?;
                 let w = &r.wheelsets[0];
                 let t_end = r.time_s.last().copied().unwrap_or(0.0);
@@ -155,7 +155,7 @@ pub fn bifurcation(
     let output = runs.join("ramp_down.h5");
     let start = Instant::now();
     let ramp_result = run_scene(&s, &mut |_| {}, Some(stop)).and_then(|outcome| {
-        runtime::schema::write_results(&output, &outcome.results)
+        runtime::io::schema::write_results(&output, &outcome.results)
             .with_context(|| format!("writing the ramp-down run {}", output.display()))?;
         Ok(outcome.into_parts(&output.display().to_string()))
     });

@@ -5,7 +5,7 @@
 //! lateral position of the contact point on the wheel and the rolling radius
 //! difference, against the wheelset's lateral displacement y (left wheel;
 //! the imported rows describe the left wheel, see
-//! `runtime::imported_contact`).
+//! `runtime::contact::imported`).
 //!
 //! Our table stores curvatures, not semi-axes: a and b are computed with
 //! [`HertzContact`] from the main contact's principal relative curvatures
@@ -23,11 +23,11 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, ensure};
 use preproc::plot::{LineChart, Series, write_line_chart};
-use runtime::contact_table::{ContactTable, ZoneEntry};
-use runtime::hertz::{HertzContact, Material};
-use runtime::imported_contact::ImportedContactTable;
-use runtime::profile::WheelProfileOptions;
-use runtime::profile_import::{ImportOptions, load_wheel};
+use runtime::contact::imported::ImportedContactTable;
+use runtime::contact::table::{ContactTable, ZoneEntry};
+use runtime::forces::hertz::{HertzContact, Material};
+use runtime::geometry::profile::WheelProfileOptions;
+use runtime::io::profile_import::{ImportOptions, load_wheel};
 use serde::Serialize;
 
 /// Contact angle above which a contact counts as a flange contact when
@@ -142,7 +142,7 @@ pub fn compare_contact_tables(
     imported_path: &Path,
     out_dir: &Path,
 ) -> Result<TableComparison> {
-    let ours = runtime::schema::read_contact_table(ours_path)
+    let ours = runtime::io::schema::read_contact_table(ours_path)
         .with_context(|| format!("reading {}", ours_path.display()))?
         .with_context(|| {
             format!(
@@ -235,8 +235,8 @@ fn compare_points(ours: &ContactTable, imported: &ImportedContactTable) -> Resul
         if y < lo || y > hi {
             continue;
         }
-        let left = imported.wheel_row(runtime::track::Side::Left, y)?;
-        let right = imported.wheel_row(runtime::track::Side::Right, y)?;
+        let left = imported.wheel_row(runtime::geometry::track::Side::Left, y)?;
+        let right = imported.wheel_row(runtime::geometry::track::Side::Right, y)?;
         let imported_values = [
             left.rolling_radius_m,
             left.contact_angle_rad,

@@ -4,17 +4,17 @@
 //! Manchester contact benchmark), or rigid contact — and, for a wheelset
 //! rolling at a given speed, the contact forces of each contact: Hertz
 //! ellipse, creepages and the creep forces of the chosen law
-//! (`runtime::contact_force`).
+//! (`runtime::forces::contact_force`).
 
 use anyhow::{Context, Result};
 use preproc::contact_table::{ContactTableConfig, TableSupport};
 use runtime::contact::quasi_static::{Settled, Support, settle};
 use runtime::contact::{Candidate, ContactOptions, ContactSolver, FlangeSearch};
-use runtime::contact_force::{
+use runtime::forces::contact_force::{
     ContactForceSettings, WheelsetMotion, contact_creepages, hertz_shape, tangential_forces,
 };
-use runtime::hertz::Material;
-use runtime::track::{Side, straight_track};
+use runtime::forces::hertz::Material;
+use runtime::geometry::track::{Side, straight_track};
 use serde::Serialize;
 
 /// The wheelset's settled pose.

@@ -10,8 +10,10 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 use preproc::plot::{LineChart, Series, write_multi_panel};
-use runtime::creep::{CreepInput, CreepLaw, FastsimParams, PolachParams, kalker_coefficients};
-use runtime::hertz::{HertzContact, Material};
+use runtime::forces::creep::{
+    CreepInput, CreepLaw, FastsimParams, PolachParams, kalker_coefficients,
+};
+use runtime::forces::hertz::{HertzContact, Material};
 
 /// The contact the curves are drawn for, and the ranges (checked settings).
 #[derive(Debug, Clone, PartialEq)]
@@ -161,7 +163,7 @@ pub fn creep_curves(config: &CreepCurveConfig) -> Result<CreepCurves> {
                       y_label: &str,
                       x: Vec<f64>,
                       set: &dyn Fn(&mut CreepInput, f64),
-                      pick: &dyn Fn(&runtime::creep::CreepForces, f64) -> f64|
+                      pick: &dyn Fn(&runtime::forces::creep::CreepForces, f64) -> f64|
      -> Result<Sweep> {
         let mut curves = Vec::new();
         for (name, law, mu) in laws {
@@ -195,7 +197,7 @@ pub fn creep_curves(config: &CreepCurveConfig) -> Result<CreepCurves> {
          y_label: &str,
          x: Vec<f64>,
          set: &dyn Fn(&mut CreepInput, f64),
-         pick: &dyn Fn(&runtime::creep::CreepForces, f64) -> f64|
+         pick: &dyn Fn(&runtime::forces::creep::CreepForces, f64) -> f64|
          -> Result<Sweep> { sweep_with(&main_laws, title, x_label, y_label, x, set, pick) };
     let mu_n_m = mu_n * (ab.sqrt());
     let n_n = config.normal_force_n;

@@ -15,7 +15,7 @@
 //!   amplitude last falls below a quarter of its saturated value (the limit
 //!   cycle dies out);
 //! - **linear** (eigenvalues): the right-hand side is linearised around the
-//!   centred run ([`runtime::dynamics::linear`]) and the speed at which the
+//!   centred run ([`runtime::multibody::linear`]) and the speed at which the
 //!   hunting mode's real part crosses zero is bracketed the same way.
 
 use std::path::PathBuf;
@@ -24,8 +24,8 @@ use std::sync::atomic::AtomicBool;
 
 use anyhow::{Context, Result, bail};
 use rayon::prelude::*;
-use runtime::dynamics::linear::{Mode, linearise};
-use runtime::dynamics::{InitialConditions, SystemSettings, VehicleSystem};
+use runtime::multibody::linear::{Mode, linearise};
+use runtime::multibody::{InitialConditions, SystemSettings, VehicleSystem};
 use runtime::results::RunResults;
 use serde::Serialize;
 
@@ -425,7 +425,7 @@ pub fn time_domain(
         // as growing: its results so far are used (and written, for the user).
         let outcome = run_scene(&s, &mut |_| {}, Some(stop.clone()))
             .with_context(|| format!("run at {v} m/s"))?;
-        runtime::schema::write_results(&output, &outcome.results)
+        runtime::io::schema::write_results(&output, &outcome.results)
             .with_context(|| format!("writing the run at {v} m/s to {}", output.display()))?;
         let fit = growth_rate(&outcome.results, 0, settings.skip_s);
         Ok(SpeedSample::new(
@@ -544,7 +544,7 @@ pub fn ramp(
     std::fs::create_dir_all(&dir)?;
     let output = dir.join(format!("{law}_ramp.h5"));
     let ran = run_scene(&s, &mut |_| {}, Some(stop)).and_then(|outcome| {
-        runtime::schema::write_results(&output, &outcome.results)
+        runtime::io::schema::write_results(&output, &outcome.results)
             .with_context(|| format!("writing the ramp run {}", output.display()))?;
         let (results, summary) = outcome.into_parts(&output.display().to_string());
         summary.map(|_| results)

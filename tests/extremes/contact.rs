@@ -25,7 +25,7 @@
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 
-use runtime::{results::RunResults, schema::read_results};
+use runtime::{io::schema::read_results, results::RunResults};
 use serde_json::Value;
 
 use crate::common::*;

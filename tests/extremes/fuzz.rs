@@ -1,7 +1,7 @@
 //! Fuzzing the readers of everything a user supplies (issue 7, part A),
 //! with proptest: the track CSVs of `track-preproc` (centreline, cant,
 //! irregularities — parsed, then fitted and tabulated when small), the
-//! profile files (`runtime::profile_import`: SIMPACK .prw/.prr, two
+//! profile files (`runtime::io::profile_import`: SIMPACK .prw/.prr, two
 //! columns, CSV — then turned into wheel and rail profiles), scenes
 //! (`railsim::config::scene::LoadedScene::from_text`, with `--set` overrides),
 //! vehicle files and DYTSI RSGEO contact tables. Each reader gets
@@ -23,9 +23,11 @@ use preproc::{BuildConfig, NoProgress, TrackInputs, TrackModel};
 use proptest::prelude::*;
 use railsim::config::scene::LoadedScene;
 use railsim::config::vehicle::VehicleFile;
-use runtime::profile::{RailProfile, RailProfileOptions, WheelProfile, WheelProfileOptions};
-use runtime::profile_import::{ImportOptions, parse_profile};
-use runtime::spline::Scheme;
+use runtime::geometry::profile::{
+    RailProfile, RailProfileOptions, WheelProfile, WheelProfileOptions,
+};
+use runtime::geometry::spline::Scheme;
+use runtime::io::profile_import::{ImportOptions, parse_profile};
 
 use crate::common::shipped;
 
@@ -544,7 +546,7 @@ fn regression_oversized_tracks_are_refused() {
 /// A two-column wheel profile with a point at y = 10²² m (a mutation of
 /// `TWO_COLUMNS`): building the wheel profile panicked with "capacity
 /// overflow" (its scan grid every 0.05 mm across the span); a profile
-/// wider than 2 m is now refused (`runtime::profile::MAX_PROFILE_SPAN_M`).
+/// wider than 2 m is now refused (`runtime::geometry::profile::MAX_PROFILE_SPAN_M`).
 #[test]
 fn regression_profile_spanning_1e22_m() {
     let text =

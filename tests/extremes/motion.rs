@@ -12,7 +12,7 @@
 //! - no panic, a completed run, and no NaN or infinity in any float dataset
 //!   of its results file except where the schema writes NaN for "no
 //!   contact" ([`check_results_finite`]);
-//! - its energy balance (`runtime::dynamics::EnergyLedger`,
+//! - its energy balance (`runtime::multibody::EnergyLedger`,
 //!   reported by `sim run --json`): E − E0 = axle torque work + reference
 //!   work + element turning work − creep, contact damping and damper
 //!   dissipation, up to a residual ≤ 2e-3 of the largest term + 0.05 J.
@@ -482,7 +482,7 @@ fn bogie_brakes_to_a_stop_and_stays() {
 
 /// A reversal happens only when asked: the car body braking at 2 m/s² from
 /// 0.3 m/s to a final speed of −0.3 m/s runs backwards, and the bogie
-/// with it (creepages with |V| = V_eff, `runtime::creepage`).
+/// with it (creepages with |V| = V_eff, `runtime::forces::creepage`).
 #[test]
 fn bogie_reverses_when_asked() {
     let dir = scratch("extremes_motion_reverse_bogie");

@@ -20,7 +20,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use runtime::track::{Side, TrackTables};
+use runtime::geometry::track::{Side, TrackTables};
 use serde_json::Value;
 
 use crate::common::*;
@@ -230,7 +230,7 @@ fn build(dir: &Path, name: &str, csv: &str, extra: &[&str]) -> (PathBuf, Value) 
 }
 
 fn read_tables(path: &Path) -> TrackTables {
-    runtime::schema::read_track(path).expect("the table just built reads back")
+    runtime::io::schema::read_track(path).expect("the table just built reads back")
 }
 
 fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {

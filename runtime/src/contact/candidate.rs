@@ -4,8 +4,8 @@
 use nalgebra::Vector3;
 
 use super::geometry::{PairEval, SurfaceParams};
-use crate::profile::Zone;
-use crate::track::Side;
+use crate::geometry::profile::Zone;
+use crate::geometry::track::Side;
 
 /// Principal curvatures at a contact (1/m), positive where the body is
 /// convex towards the other (docs/reference/07-contact-forces.md §7.1).
@@ -40,7 +40,7 @@ pub enum SolveMethod {
 pub struct Candidate {
     pub side: Side,
     pub zone: Zone,
-    /// Index of the wheel-profile piece it lies on ([`crate::profile::WheelProfile::segments`]).
+    /// Index of the wheel-profile piece it lies on ([`crate::geometry::profile::WheelProfile::segments`]).
     pub segment: usize,
     /// Surface parameters (paper's s_r, u_r, s_w, u_w).
     pub params: SurfaceParams,

@@ -13,7 +13,7 @@
 //! Surfaces (paper eq. 2–10):
 //! * rail: `r_r = p(s_r) + u_r·n(s_r) + f_r(u_r)·b(s_r)`, with
 //!   `f_r(u) = z_rail(σu)` (σ = +1 right, −1 left: the internal profile is the
-//!   right-hand one, see [`crate::profile`]);
+//!   right-hand one, see [`crate::geometry::profile`]);
 //! * wheel: `r_w = r_ws + A (h + (−f_w sin s_w, u_w, f_w cos s_w))`, with
 //!   `A = [ξ η ζ]`, `h = (0, −σH/2, 0)` and `f_w(u) = z_wheel(σu) − R0`
 //!   (minus the wheel radius).
@@ -27,8 +27,8 @@
 use nalgebra::{Matrix4, Vector3, Vector4};
 
 use super::WheelsetPose;
-use crate::profile::{CurvePoint, PlacedRailProfile, ProfileCurve, WheelProfile};
-use crate::track::{RailPointDerivative, RailTable, Side, TrackError};
+use crate::geometry::profile::{CurvePoint, PlacedRailProfile, ProfileCurve, WheelProfile};
+use crate::geometry::track::{RailPointDerivative, RailTable, Side, TrackError};
 
 /// Surface parameters of a candidate contact (see the module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

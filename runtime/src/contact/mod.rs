@@ -20,9 +20,9 @@
 //! ```
 //! # #[cfg(feature = "io")] {
 //! use runtime::contact::{ContactOptions, ContactSolver, WheelsetContactModel, WheelsetPose};
-//! use runtime::profile::{RailPlacement, RailProfileOptions, Zone};
-//! use runtime::profile_import::{ImportOptions, load_rail, load_wheel};
-//! use runtime::track::{Side, straight_track};
+//! use runtime::geometry::profile::{RailPlacement, RailProfileOptions, Zone};
+//! use runtime::io::profile_import::{ImportOptions, load_rail, load_wheel};
+//! use runtime::geometry::track::{Side, straight_track};
 //!
 //! let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tables/profiles");
 //! let opts = ImportOptions::default();
@@ -49,6 +49,7 @@
 
 mod candidate;
 mod geometry;
+pub mod imported;
 mod model;
 pub mod nadal;
 mod newton;
@@ -56,6 +57,7 @@ mod pose;
 pub mod quasi_static;
 mod search;
 mod solver;
+pub mod table;
 
 pub use candidate::{Candidate, Curvatures, SolveMethod};
 pub use geometry::SurfaceParams;
@@ -63,8 +65,8 @@ pub use model::WheelsetContactModel;
 pub use pose::WheelsetPose;
 pub use solver::{ContactOptions, ContactSolver, FlangeSearch, SolverStats, WheelsetContacts};
 
-use crate::profile::Zone;
-use crate::track::{Side, TrackError};
+use crate::geometry::profile::Zone;
+use crate::geometry::track::{Side, TrackError};
 
 /// Why a contact could not be determined.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

@@ -6,10 +6,10 @@ use nalgebra::Vector4;
 use super::candidate::{Candidate, SolveMethod, from_eval};
 use super::geometry::{Pair, SurfaceParams};
 use super::{ContactError, ContactOptions, WheelsetPose, newton, search};
-use crate::profile::{
+use crate::geometry::profile::{
     PlacedRailProfile, ProfileError, RailPlacement, RailProfile, WheelProfile, Zone,
 };
-use crate::track::{Side, TrackTables};
+use crate::geometry::track::{Side, TrackTables};
 
 /// Tolerance on the profile domains when accepting a solution (m).
 const DOMAIN_TOL_M: f64 = 1e-4;

@@ -29,7 +29,7 @@
 //! Both are in N; Y/Q is dimensionless and undefined (NaN) while the
 //! wheel has no contact.
 
-use crate::profile::{WheelProfile, Zone};
+use crate::geometry::profile::{WheelProfile, Zone};
 
 /// Sampling step along the flange flank when looking for its steepest
 /// point (m): 0.05 mm, well below the profile's point spacing.

@@ -6,7 +6,7 @@
 
 use nalgebra::{Matrix3, Rotation3, Unit, Vector3};
 
-use crate::track::{TrackError, TrackTables};
+use crate::geometry::track::{TrackError, TrackTables};
 
 /// Position and axle frame of a wheelset.
 #[derive(Debug, Clone, Copy, PartialEq)]

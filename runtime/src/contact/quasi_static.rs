@@ -12,9 +12,9 @@ use super::{
     Candidate, ContactError, ContactOptions, ContactSolver, FlangeSearch, WheelsetContactModel,
     WheelsetContacts, WheelsetPose,
 };
-use crate::hertz::{HertzShape, Material};
-use crate::profile::{MAX_SEGMENTS, Zone};
-use crate::track::{Side, TrackTables, straight_track};
+use crate::forces::hertz::{HertzShape, Material};
+use crate::geometry::profile::{MAX_SEGMENTS, Zone};
+use crate::geometry::track::{Side, TrackTables, straight_track};
 
 /// How the wheelset is supported.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -7,8 +7,8 @@ use super::candidate::Candidate;
 use super::geometry::SurfaceParams;
 use super::model::WheelsetContactModel;
 use super::{ContactError, WheelsetPose};
-use crate::profile::{MAX_SEGMENTS, Zone};
-use crate::track::{Side, TrackTables};
+use crate::geometry::profile::{MAX_SEGMENTS, Zone};
+use crate::geometry::track::{Side, TrackTables};
 
 /// When the flange zones are searched (paper §4.3: the user chooses whether
 /// flange contact matters; docs/reference/06-contact-detection.md §6).

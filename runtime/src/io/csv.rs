@@ -1,6 +1,6 @@
 //! The one reader of the workspace's numeric text tables (docs/reference/02-inputs.md §2): the
 //! track pre-processor's CSV inputs (`preproc::csv`), the CSV and plain
-//! two-column profile files ([`crate::profile_import`]) and DYTSI's RSGEO
+//! two-column profile files ([`crate::io::profile_import`]) and DYTSI's RSGEO
 //! contact tables (`preproc::rsgeo`).
 //!
 //! # What it reads

@@ -1,9 +1,12 @@
-//! File input and output shared by the workspace's crates (behind the `io`
-//! feature): one atomic writer for every output file ([`atomic`]), one
-//! reader of numeric text tables ([`csv`]).
+//! File input and output (behind the `io` feature, on by default): the
+//! HDF5 table and results files ([`schema`]), the profile files
+//! ([`profile_import`]), one atomic writer for every output file of the
+//! workspace ([`atomic`]) and one reader of numeric text tables ([`csv`]).
 
 pub mod atomic;
 pub mod csv;
+pub mod profile_import;
+pub mod schema;
 
 pub use atomic::{
     AtomicFile, AtomicWriteError, write_atomically, write_atomically_keeping_extension,

@@ -1,7 +1,7 @@
 //! The record of a run as plain data: time series of every wheelset,
 //! wheel and contact zone (docs/reference/08-multibody.md §8 outputs), filled by
-//! [`crate::dynamics::recorder`] and written and read by the results file
-//! of [`crate::schema`] (HDF5, behind the `io` feature). No file access
+//! [`crate::multibody::recorder`] and written and read by the results file
+//! of [`crate::io::schema`] (HDF5, behind the `io` feature). No file access
 //! here.
 //!
 //! Every series is defined once in the column lists of [`columns`]
@@ -22,7 +22,7 @@ pub use columns::{
 use crate::contact::nadal::NadalLimit;
 
 /// Root attribute names the results file's writer sets itself
-/// ([`crate::schema`]); run metadata ([`RunResults::attributes`]) may not
+/// ([`crate::io::schema`]); run metadata ([`RunResults::attributes`]) may not
 /// use them.
 pub const RESERVED_ATTRIBUTES: [&str; 4] = ["schema", "schema_version", "tool", "tool_version"];
 
@@ -162,7 +162,7 @@ pub struct ZoneSample {
 /// minimisation fallback of the contact search (nearly conformal contact).
 pub const FALLBACK_MINIMISATION: u8 = 1;
 /// [`ZoneSeries::fallback`] bit: non-Hertzian geometry, the ellipse from
-/// floored curvatures (`crate::contact_force::NonHertzianPolicy::Floor`).
+/// floored curvatures (`crate::forces::contact_force::NonHertzianPolicy::Floor`).
 pub const FALLBACK_HERTZ_FLOOR: u8 = 2;
 
 impl ZoneSample {

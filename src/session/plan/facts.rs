@@ -8,8 +8,8 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use runtime::contact::quasi_static::flange_clearance_m;
-use runtime::dynamics::VehicleModel;
-use runtime::track::{Side, TrackTables};
+use runtime::geometry::track::{Side, TrackTables};
+use runtime::multibody::VehicleModel;
 use serde::Serialize;
 
 use super::measured::TrackKind;
@@ -26,7 +26,7 @@ pub const STRAIGHT_CURVATURE_1_M: f64 = 1e-9;
 pub const RANGE_MARGIN_M: f64 = 5.0;
 
 /// Table kept ahead of the leading wheelset by the dynamics (m;
-/// `runtime::dynamics::system`: the run stops 2 m before the table's end).
+/// `runtime::multibody::system`: the run stops 2 m before the table's end).
 pub const DYNAMICS_LOOKAHEAD_M: f64 = 2.0;
 
 /// What the track looks like over the run's range.
@@ -149,7 +149,7 @@ pub(super) fn track_facts(ls: &LoadedScene, range: [f64; 2]) -> Result<TrackFact
         });
     }
     if let Some(p) = &t.tables {
-        let tables = runtime::schema::read_track(&ls.path(p))?;
+        let tables = runtime::io::schema::read_track(&ls.path(p))?;
         let rows = tables.centerline.rows();
         let inside = rows
             .iter()
@@ -251,7 +251,7 @@ impl<'a> CheckModel<'a> {
         let t = &ls.scene.track;
         let (gauge, spacing, incl) = match &t.tables {
             Some(p) => {
-                let m = runtime::schema::read_track(&ls.path(p))?.meta;
+                let m = runtime::io::schema::read_track(&ls.path(p))?.meta;
                 (m.gauge_m, m.rail_spacing_m, m.rail_inclination_rad)
             }
             None => {
@@ -265,7 +265,7 @@ impl<'a> CheckModel<'a> {
         Ok(CheckModel {
             vehicle_file: v,
             rail: ls.path(&t.rail_profile),
-            track: runtime::track::straight_track(length, 1.0, gauge, spacing, incl),
+            track: runtime::geometry::track::straight_track(length, 1.0, gauge, spacing, incl),
             s_start_m: s_start,
             vehicle: None,
             #[cfg(test)]

@@ -7,8 +7,8 @@
 //! after it.
 
 use anyhow::{Context, Result};
-use runtime::dynamics::linear::linearise;
-use runtime::dynamics::{InitialConditions, VehicleSystem};
+use runtime::multibody::linear::linearise;
+use runtime::multibody::{InitialConditions, VehicleSystem};
 use serde::Serialize;
 
 use super::facts::{CheckModel, FlangeFacts, TrackFacts, flange_facts};
@@ -76,7 +76,7 @@ pub fn guard_check(
 
 /// Damping ratio and frequency (Hz) of the hunting mode of the centred run
 /// at the scene's speed, creep law and friction, online contact, on the
-/// check's ideal straight (`runtime::dynamics::linear`); `None` when there
+/// check's ideal straight (`runtime::multibody::linear`); `None` when there
 /// is no oscillatory lateral mode.
 fn hunting(ls: &LoadedScene, check: &mut CheckModel) -> Result<Option<(f64, f64)>> {
     let mut scene = ls.clone();

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use preproc::{BuildConfig, BuildRequest, Inclination, RailSpacing, TrackModel};
-use runtime::track::TrackTables;
+use runtime::geometry::track::TrackTables;
 
 use super::facts::{DYNAMICS_LOOKAHEAD_M, RANGE_MARGIN_M, TrackFacts, travel_m, vehicle_extent_m};
 use super::{By, Decision};

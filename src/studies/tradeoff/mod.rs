@@ -388,7 +388,7 @@ fn run_variant(
     let mut last = None;
     for k in 0..settings.repeats {
         let ran = run_scene(&vs, &mut |_| {}, Some(stop.clone())).and_then(|outcome| {
-            runtime::schema::write_results(&output, &outcome.results)
+            runtime::io::schema::write_results(&output, &outcome.results)
                 .with_context(|| format!("writing {}", output.display()))?;
             let (results, summary) = outcome.into_parts(&output.display().to_string());
             summary.map(|s| (s, results))

@@ -1,0 +1,178 @@
+//! Energy bookkeeping of a run: the mechanical energy of the vehicle at a
+//! state, the powers of the non-conservative forces, and their work
+//! integrated over the accepted states ([`EnergyLedger`]; work–energy
+//! theorem, e.g. Goldstein, *Classical Mechanics*, §1.2).
+
+use nalgebra::{Matrix3, Vector3};
+
+use super::system::VehicleSystem;
+use crate::multibody::element::Anchor;
+
+/// Energy bookkeeping of a run (J): the mechanical energy E
+/// ([`VehicleSystem::mechanical_energy_j`]) at the first and the last
+/// accepted state, and the work of every non-conservative force between
+/// them, integrated over the accepted states by the trapezoidal rule
+/// (second order in the step). Balance (work–energy theorem):
+///
+/// E − E0 = W_torque + W_references + W_turning − D_creep − D_contact − D_dampers,
+///
+/// with the powers at a state (W = watts, all ≥ 0 for the D's):
+/// - axle torques: Σ T·Ω (T about the axle, Ω the spin about it);
+/// - references (prescribed motion): −Σ F·v, F the elements' forces on
+///   them at their attachment points, v those points' velocities (what
+///   drives a reference does the opposite work on the elements);
+/// - creep: −Σ (Fx s_x + Fy s_y + Mz s_φ) over the contacts, the forces
+///   on the wheel times the slip velocities of the wheel's material point
+///   against the (fixed) rail (`crate::forces::creepage`), ≥ 0 for every creep law
+///   (they oppose the slip);
+/// - contact damping: Σ N_d δ̇ (the hysteresis part of paper eq. 22, with
+///   the sign of δ̇);
+/// - dampers: Σ Δ̇ᵀ C Δ̇ of the elements;
+/// - element turning: Σ F_b·(ω_a × (p_b − p_a)), the work of the
+///   elements' forces beyond their potential ½ΔᵀKΔ − f₀·Δ, which is exact
+///   only while body a does not rotate (`crate::multibody::element`): the forces are
+///   along a's turning axes (f₀ the preload; −f₀·Δ the preload's energy).
+///
+/// The Hertz elastic energy in E is 0.4 K δ^2.5 with the stiffness K of
+/// the current contact geometry; K changes as the contact point moves
+/// across the profiles, which leaves a small residual.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct EnergyLedger {
+    /// E at the first accepted state (J).
+    pub initial_energy_j: f64,
+    /// E at the last accepted state (J).
+    pub energy_j: f64,
+    pub axle_torque_work_j: f64,
+    pub reference_work_j: f64,
+    pub creep_dissipation_j: f64,
+    pub contact_damping_dissipation_j: f64,
+    pub damper_dissipation_j: f64,
+    pub element_turning_work_j: f64,
+    /// Time (s) and powers (W) at the last accepted state: torque,
+    /// references, creep, contact damping, dampers, element turning.
+    last: Option<(f64, [f64; 6])>,
+}
+
+impl EnergyLedger {
+    /// The balance's residual (J): E − E0 − (W_torque + W_references +
+    /// W_turning − D_creep − D_contact − D_dampers); zero but for the
+    /// integration and quadrature errors (struct docs).
+    pub fn residual_j(&self) -> f64 {
+        self.energy_j
+            - self.initial_energy_j
+            - (self.axle_torque_work_j + self.reference_work_j + self.element_turning_work_j
+                - self.creep_dissipation_j
+                - self.contact_damping_dissipation_j
+                - self.damper_dissipation_j)
+    }
+
+    /// Adds the powers `p` (W; order of `last`) at the accepted time `t_s`
+    /// (trapezoidal rule) and the energy there.
+    pub(super) fn add(&mut self, t_s: f64, p: [f64; 6], energy_j: f64) {
+        match self.last {
+            None => self.initial_energy_j = energy_j,
+            Some((t0, p0)) => {
+                let w = |k: usize| 0.5 * (p0[k] + p[k]) * (t_s - t0);
+                self.axle_torque_work_j += w(0);
+                self.reference_work_j += w(1);
+                self.creep_dissipation_j += w(2);
+                self.contact_damping_dissipation_j += w(3);
+                self.damper_dissipation_j += w(4);
+                self.element_turning_work_j += w(5);
+            }
+        }
+        self.energy_j = energy_j;
+        self.last = Some((t_s, p));
+    }
+}
+
+impl VehicleSystem<'_> {
+    /// Mechanical energy (J) at the last evaluated state: kinetic energy of
+    /// every body, gravitational potential (zero at Z = 0), the elements'
+    /// potential, and the elastic energy of the Hertz contacts,
+    /// ∫ K δ^1.5 dδ = 0.4 K δ^2.5 (docs/reference/07-contact-forces.md §7.1). With restitution 1, no creep
+    /// and no dampers it is conserved; the references' prescribed motion can
+    /// do work on the elements (none on a straight track at constant speed).
+    pub fn mechanical_energy_j(&self) -> f64 {
+        let g = Vector3::new(0.0, 0.0, -self.settings.gravity_m_s2);
+        let vehicle = self.vehicle;
+        let bodies = vehicle
+            .wheelsets
+            .iter()
+            .map(|w| &w.body)
+            .chain(vehicle.bodies.iter().map(|b| &b.body));
+        let mut e = 0.0;
+        for (st, body) in self.states.iter().zip(bodies) {
+            e += st.kinetic_energy_j(body) + st.potential_energy_j(body, &g);
+        }
+        let ground = Anchor::fixed(Vector3::zeros(), Matrix3::identity());
+        for (el, spec) in self.elements.iter().zip(&vehicle.elements) {
+            let a = self
+                .anchor_index(spec.a)
+                .map_or(ground, |k| self.anchors[k]);
+            let b = self
+                .anchor_index(spec.b)
+                .map_or(ground, |k| self.anchors[k]);
+            e += el.potential_energy_j(&el.evaluate(&a, &b).deflection_m);
+        }
+        for snap in &self.snapshots {
+            for f in snap.forces.iter().flatten().flatten() {
+                // δ from the elastic part of the normal force, N_el = K δ^1.5.
+                let k = f.tangential.hertz.stiffness_n_m15;
+                if k > 0.0 && f.normal.elastic_n > 0.0 {
+                    let delta = (f.normal.elastic_n / k).powf(2.0 / 3.0);
+                    e += 0.4 * k * delta * delta * delta.sqrt();
+                }
+            }
+        }
+        e
+    }
+
+    /// The non-conservative powers (W) at the last evaluated state, in the
+    /// order of [`EnergyLedger`]: axle torques, references, creep
+    /// dissipation, contact damping dissipation, damper dissipation, the
+    /// elements' work beyond their potential.
+    pub(super) fn powers_w(&self) -> [f64; 6] {
+        let mut p = [0.0; 6];
+        for snap in &self.snapshots {
+            p[0] += snap.axle_torque_nm * snap.spin_rad_s;
+            for f in snap.forces.iter().flatten().flatten() {
+                let (c, slip) = (&f.tangential.creep, &f.tangential.creepages.slip);
+                p[2] -= c.fx_n * slip.longitudinal_m_s
+                    + c.fy_n * slip.lateral_m_s
+                    + c.mz_nm * slip.spin_rad_s;
+                p[3] += f.normal.damping_n * slip.penetration_rate_m_s;
+            }
+        }
+        let vehicle = self.vehicle;
+        let n_refs_from = vehicle.wheelsets.len() + vehicle.bodies.len();
+        let ground = Anchor::fixed(Vector3::zeros(), Matrix3::identity());
+        for (el, spec) in self.elements.iter().zip(&vehicle.elements) {
+            let ia = self.anchor_index(spec.a);
+            let ib = self.anchor_index(spec.b);
+            let a = ia.map_or(ground, |k| self.anchors[k]);
+            let b = ib.map_or(ground, |k| self.anchors[k]);
+            let f = el.evaluate(&a, &b);
+            // Velocity of a point p of an anchor: v + ω × (p − origin).
+            let point_velocity = |an: &Anchor, point: &Vector3<f64>| {
+                an.velocity_m_s + an.angular_velocity_rad_s.cross(&(point - an.position_m))
+            };
+            // The reference's driver does on the element the work the
+            // element does on the reference, negated.
+            if ia.is_some_and(|k| k >= n_refs_from) {
+                p[1] -= f.force_on_a_n().dot(&point_velocity(&a, &f.point_a_m));
+            }
+            if ib.is_some_and(|k| k >= n_refs_from) {
+                p[1] -= f.force_on_b_n.dot(&point_velocity(&b, &f.point_b_m));
+            }
+            p[4] += el.dissipated_power_w(&f.rate_m_s);
+            // The elements' directions turn with a: their forces on the
+            // bodies do F_b·(ω_a × (p_b − p_a)) more work than their
+            // potential and dampers account for.
+            p[5] += f
+                .force_on_b_n
+                .dot(&a.angular_velocity_rad_s.cross(&(f.point_b_m - f.point_a_m)));
+        }
+        p
+    }
+}

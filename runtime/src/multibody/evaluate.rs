@@ -1,0 +1,194 @@
+//! The vehicle on the track as a first-order system y′ = f(t, y) (paper
+//! §4.1, Fig. 8; docs/reference/08-multibody.md §8). One evaluation of f is the paper's step:
+//!
+//! a. the state of every body (wheelsets first, then free bodies;
+//!    [`BodyState::LEN`] variables each, [`crate::multibody::body::BodyState`]);
+//! b. the contacts of every wheel, tread and flange, from the wheelset's
+//!    [`super::ContactSource`] (online: a contact search warm-started from
+//!    the previous solve, [`crate::contact::ContactSolver`]; or the
+//!    contact lookup table; or an imported table);
+//! c. normal forces (online and table: Hertz with hysteresis,
+//!    [`crate::forces::normal`]) and
+//! d. creepages and creep forces ([`crate::forces::contact_force`]), from the
+//!    same source;
+//! e. suspension forces (elements between bodies, wheelsets and the
+//!    track-following references) and gravity;
+//! f. Newton–Euler accelerations ([`crate::multibody::body::derivatives`]).
+//!
+//! The surface parameters of the last solve are the next initial guess;
+//! the hysteresis memory of each contact is committed only at accepted
+//! states ([`crate::integrators::OdeSystem::accept`]), so rejected trial
+//! steps leave no trace.
+
+use nalgebra::{Matrix3, Vector3};
+
+use super::contact_source::ContactContext;
+use super::error::DynamicsError;
+use super::settings::BRAKE_STICK_SPEED_M_S;
+use super::system::{REFERENCE_DS_M, VehicleSystem};
+use super::track_motion::{project_s, reference_anchor, track_relative, track_rotation};
+use crate::contact::WheelsetPose;
+use crate::forces::contact_force::WheelsetMotion;
+use crate::forces::normal::ContactMemory;
+use crate::multibody::body::{BodyState, Wrench};
+use crate::multibody::element::Anchor;
+
+impl VehicleSystem<'_> {
+    /// Evaluates everything at (t, y): contacts, forces, wrenches (module
+    /// docs, steps a–e). Fills the snapshots and the pending hysteresis
+    /// memories; commits nothing.
+    pub fn evaluate(&mut self, t: f64, y: &[f64]) -> Result<(), DynamicsError> {
+        self.counters.evaluations += 1;
+        let track = self.track;
+        let vehicle = self.vehicle;
+        let c = &track.centerline;
+        let n_ws = vehicle.wheelsets.len();
+        for (i, w) in vehicle.wheelsets.iter().enumerate() {
+            let st = BodyState::read_from(&y[BodyState::slot(i)]);
+            let s = project_s(c, &st.position_m, self.s_guess[i]).map_err(|source| {
+                DynamicsError::Track {
+                    what: format!("wheelset '{}'", w.name),
+                    t_s: t,
+                    source,
+                }
+            })?;
+            self.s_guess[i] = s;
+            let up = track_rotation(c, s)
+                .map_err(|source| DynamicsError::Track {
+                    what: format!("wheelset '{}'", w.name),
+                    t_s: t,
+                    source,
+                })?
+                .column(2)
+                .into_owned();
+            let rotation = st.rotation();
+            let axle = rotation.column(1).into_owned();
+            let pose = WheelsetPose::from_body(s, st.position_m, axle, up);
+            let relative = track_relative(c, s, &st.position_m, &axle, &st.velocity_m_s).map_err(
+                |source| DynamicsError::Track {
+                    what: format!("wheelset '{}'", w.name),
+                    t_s: t,
+                    source,
+                },
+            )?;
+            if relative.lateral_m.abs() > self.settings.derailment_lateral_m {
+                return Err(DynamicsError::Derailed {
+                    wheelset: w.name.clone(),
+                    t_s: t,
+                    lateral_mm: relative.lateral_m * 1e3,
+                    limit_mm: self.settings.derailment_lateral_m * 1e3,
+                });
+            }
+            // Written in place: a snapshot holds a dozen candidates and
+            // forces (kilobytes), copying them costs more than their maths.
+            let snap = &mut self.snapshots[i];
+            let source = &mut self.sources[i];
+            let ctx = ContactContext {
+                track,
+                wheelset: w,
+                solver: &mut self.solvers[i],
+            };
+            snap.contacts = source.contacts(ctx, &pose, &relative).map_err(|source| {
+                DynamicsError::Contact {
+                    wheelset: w.name.clone(),
+                    t_s: t,
+                    source,
+                }
+            })?;
+            let omega = st.angular_velocity_global();
+            let motion = WheelsetMotion {
+                centre_m: st.position_m,
+                velocity_m_s: st.velocity_m_s,
+                angular_velocity_rad_s: omega,
+                forward_speed_m_s: relative.forward_speed_m_s,
+            };
+            snap.relative = relative;
+            snap.spin_rad_s = omega.dot(&axle);
+            let mut wrench = Wrench::zero();
+            for (k, forces_k) in snap.forces.iter_mut().enumerate() {
+                for (seg, force_slot) in forces_k.iter_mut().enumerate() {
+                    let pending = &mut self.pending[i][k][seg];
+                    *pending = ContactMemory::not_in_contact();
+                    *force_slot = None;
+                    let Some(cand) = &snap.contacts.candidates[k][seg] else {
+                        continue;
+                    };
+                    let f = source
+                        .force(
+                            &self.settings.forces,
+                            cand,
+                            &self.memory[i][k][seg],
+                            &motion,
+                        )
+                        .map_err(|source| DynamicsError::Force {
+                            wheelset: w.name.clone(),
+                            t_s: t,
+                            source,
+                        })?;
+                    if let Some(f) = f {
+                        wrench.add_force_at(&st.position_m, &f.point_m, &f.force_on_wheel_n);
+                        wrench.add_moment(&f.moment_on_wheel_nm);
+                        *pending = f.normal.next_memory;
+                        *force_slot = Some(f);
+                    }
+                }
+            }
+            // Axle torque: drive (constant) and friction brake (module docs
+            // of `SystemSettings::axle_brake_torque_nm`), about the axle.
+            let brake_eps_rad_s = BRAKE_STICK_SPEED_M_S / w.nominal_radius_m;
+            snap.axle_torque_nm = self.settings.axle_torque_nm
+                - self.settings.axle_brake_torque_nm * snap.spin_rad_s
+                    / snap.spin_rad_s.abs().max(brake_eps_rad_s);
+            wrench.add_moment(&(axle * snap.axle_torque_nm));
+            // Elements attach to the non-spinning axle frame.
+            self.anchors[i] = Anchor {
+                position_m: st.position_m,
+                rotation: pose.frame,
+                velocity_m_s: st.velocity_m_s,
+                angular_velocity_rad_s: omega - axle * omega.dot(&axle),
+            };
+            self.wrenches[i] = wrench;
+            self.states[i] = st;
+        }
+        for (j, _) in vehicle.bodies.iter().enumerate() {
+            let k = n_ws + j;
+            let st = BodyState::read_from(&y[BodyState::slot(k)]);
+            self.anchors[k] = Anchor::from_body(&st);
+            self.wrenches[k] = Wrench::zero();
+            self.states[k] = st;
+        }
+        let s_vehicle = self.s_vehicle_m(t);
+        let n_bodies = n_ws + vehicle.bodies.len();
+        for (j, r) in vehicle.references.iter().enumerate() {
+            self.anchors[n_bodies + j] = reference_anchor(
+                c,
+                s_vehicle,
+                &r.origin_m,
+                self.speed_at_m_s(t),
+                REFERENCE_DS_M,
+            )
+            .map_err(|source| DynamicsError::Track {
+                what: format!("reference '{}'", r.name),
+                t_s: t,
+                source,
+            })?;
+        }
+        let ground = Anchor::fixed(Vector3::zeros(), Matrix3::identity());
+        for (e, spec) in self.elements.iter().zip(&vehicle.elements) {
+            let ia = self.anchor_index(spec.a);
+            let ib = self.anchor_index(spec.b);
+            let a = ia.map_or(ground, |k| self.anchors[k]);
+            let b = ib.map_or(ground, |k| self.anchors[k]);
+            let f = e.evaluate(&a, &b);
+            if let Some(k) = ia.filter(|&k| k < n_bodies) {
+                let cg = self.states[k].position_m;
+                self.wrenches[k].add_force_at(&cg, &f.point_a_m, &f.force_on_a_n());
+            }
+            if let Some(k) = ib.filter(|&k| k < n_bodies) {
+                let cg = self.states[k].position_m;
+                self.wrenches[k].add_force_at(&cg, &f.point_b_m, &f.force_on_b_n);
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,205 @@
+//! Sampled outputs of a run (docs/reference/08-multibody.md §8 outputs; the data model is
+//! [`crate::results`], which `crate::io::schema::write_results` writes to a
+//! file): at every output time the system is evaluated at the
+//! (interpolated) state and each wheelset's track-relative position and
+//! each wheel's contacts are appended to a [`RunResults`]; each wheel's Nadal limit (its steepest flange angle and
+//! the run's friction coefficient, [`crate::contact::nadal`]) is stored with
+//! its Y/Q series.
+
+use super::DynamicsError;
+use super::system::{VehicleSystem, WheelsetSnapshot};
+use super::track_motion::track_rotation;
+use crate::contact::SolveMethod;
+use crate::contact::nadal::NadalLimit;
+use crate::geometry::profile::{MAX_SEGMENTS, Zone};
+use crate::geometry::track::Side;
+use crate::results::{
+    FALLBACK_HERTZ_FLOOR, FALLBACK_MINIMISATION, RunResults, WheelSample, WheelsetSample,
+    ZoneSample,
+};
+
+/// Collects the samples of a run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Recorder {
+    pub results: RunResults,
+    /// Track distance of each wheelset and rail arc length of each wheel's
+    /// contact at the first sample (m).
+    origin: Option<Vec<(f64, [f64; 2])>>,
+}
+
+impl Recorder {
+    /// An empty record for the vehicle's wheelsets.
+    pub fn new(system: &VehicleSystem<'_>) -> Self {
+        let mut results =
+            RunResults::with_wheelsets(system.vehicle().wheelsets.iter().map(|w| w.name.clone()));
+        let friction = system.settings().forces.friction_coefficient;
+        for (series, spec) in results
+            .wheelsets
+            .iter_mut()
+            .zip(&system.vehicle().wheelsets)
+        {
+            for side in Side::BOTH {
+                series.wheels[side_index(side)].nadal =
+                    NadalLimit::of_wheel(spec.contact.wheel(side), friction);
+            }
+        }
+        Recorder {
+            results,
+            origin: None,
+        }
+    }
+
+    /// Evaluates the system at (t, y) and appends the sample.
+    pub fn record(
+        &mut self,
+        system: &mut VehicleSystem<'_>,
+        t: f64,
+        y: &[f64],
+    ) -> Result<(), DynamicsError> {
+        system.evaluate(t, y)?;
+        let track = system.track();
+        let snapshots = system.snapshots();
+        let wheel_l = |snap: &WheelsetSnapshot, side: Side| -> Result<f64, DynamicsError> {
+            let k = side_index(side);
+            if let Some(c) = main_contact(snap, k, Zone::Tread) {
+                return Ok(c.0.params.s_rail_m);
+            }
+            track
+                .centerline
+                .rail_l(side, snap.relative.s_m)
+                .map_err(|source| DynamicsError::Track {
+                    what: "wheel travelled distance".into(),
+                    t_s: t,
+                    source,
+                })
+        };
+        if self.origin.is_none() {
+            let mut o = Vec::new();
+            for snap in snapshots {
+                o.push((
+                    snap.relative.s_m,
+                    [wheel_l(snap, Side::Left)?, wheel_l(snap, Side::Right)?],
+                ));
+            }
+            self.origin = Some(o);
+        }
+        let origin = self.origin.as_ref().expect("set above");
+        let mut samples = Vec::with_capacity(snapshots.len());
+        for (snap, (s0, l0)) in snapshots.iter().zip(origin) {
+            let r = &snap.relative;
+            let frame = track_rotation(&track.centerline, r.s_m).map_err(|source| {
+                DynamicsError::Track {
+                    what: "recording".into(),
+                    t_s: t,
+                    source,
+                }
+            })?;
+            let (n, b) = (frame.column(1), frame.column(2));
+            let mut wheels = [WheelSample::default(); 2];
+            for side in Side::BOTH {
+                let k = side_index(side);
+                let mut zones = [ZoneSample::NO_CONTACT; 2];
+                for (z, zone) in [Zone::Tread, Zone::Flange].into_iter().enumerate() {
+                    let Some((c, f)) = main_contact(snap, k, zone) else {
+                        continue;
+                    };
+                    // Forces of every piece of the zone in contact.
+                    let mut lateral = 0.0;
+                    let mut vertical = 0.0;
+                    let mut normal = 0.0;
+                    for seg in 0..MAX_SEGMENTS {
+                        if let (Some(cc), Some(ff)) =
+                            (snap.contacts.candidates[k][seg], snap.forces[k][seg])
+                            && cc.zone == zone
+                        {
+                            lateral += ff.force_on_wheel_n.dot(&n);
+                            vertical += ff.force_on_wheel_n.dot(&b);
+                            normal += ff.normal.force_n;
+                        }
+                    }
+                    let cr = &f.tangential.creepages;
+                    zones[z] = ZoneSample {
+                        in_contact: true,
+                        normal_n: normal,
+                        fx_n: f.tangential.creep.fx_n,
+                        fy_n: f.tangential.creep.fy_n,
+                        mz_nm: f.tangential.creep.mz_nm,
+                        lateral_force_n: lateral,
+                        vertical_force_n: vertical,
+                        xi: cr.xi,
+                        eta: cr.eta,
+                        phi_1_m: cr.phi_1_m,
+                        y_wheel_m: c.wheel_profile_point_m.0,
+                        y_rail_m: c.rail_profile_point_m.0,
+                        contact_angle_rad: c.contact_angle_rad,
+                        lead_m: c.lead_m(),
+                        fallback: zone_fallbacks(snap, k, zone),
+                    };
+                }
+                wheels[k] = WheelSample {
+                    travelled_m: wheel_l(snap, side)? - l0[k],
+                    zones,
+                };
+            }
+            samples.push(WheelsetSample {
+                lateral_m: r.lateral_m,
+                yaw_rad: r.yaw_rad,
+                roll_rad: r.roll_rad,
+                distance_m: r.s_m - s0,
+                speed_m_s: r.forward_speed_m_s,
+                wheels,
+            });
+        }
+        self.results
+            .push(t, &samples)
+            .map_err(|e| DynamicsError::Assembly {
+                wheelset: "(recorder)".into(),
+                reason: e.to_string(),
+            })
+    }
+}
+
+fn side_index(side: Side) -> usize {
+    match side {
+        Side::Left => 0,
+        Side::Right => 1,
+    }
+}
+
+/// The fallback bits ([`FALLBACK_MINIMISATION`], [`FALLBACK_HERTZ_FLOOR`])
+/// of the zone's pieces in contact.
+fn zone_fallbacks(snap: &WheelsetSnapshot, k: usize, zone: Zone) -> u8 {
+    let mut bits = 0;
+    for seg in 0..MAX_SEGMENTS {
+        if let (Some(c), Some(f)) = (snap.contacts.candidates[k][seg], snap.forces[k][seg])
+            && c.zone == zone
+        {
+            if c.method == SolveMethod::Minimisation {
+                bits |= FALLBACK_MINIMISATION;
+            }
+            if f.hertz_fallback {
+                bits |= FALLBACK_HERTZ_FLOOR;
+            }
+        }
+    }
+    bits
+}
+
+/// The zone's piece in contact carrying the largest normal force.
+fn main_contact(
+    snap: &WheelsetSnapshot,
+    k: usize,
+    zone: Zone,
+) -> Option<(
+    crate::contact::Candidate,
+    crate::forces::contact_force::ContactForce,
+)> {
+    (0..MAX_SEGMENTS)
+        .filter_map(
+            |seg| match (snap.contacts.candidates[k][seg], snap.forces[k][seg]) {
+                (Some(c), Some(f)) if c.zone == zone => Some((c, f)),
+                _ => None,
+            },
+        )
+        .max_by(|a, b| a.1.normal.force_n.total_cmp(&b.1.normal.force_n))
+}

@@ -1,0 +1,291 @@
+//! The vehicle on the track as a first-order system y′ = f(t, y) for
+//! [`crate::integrators`] (paper §4.1, Fig. 8; docs/reference/08-multibody.md §8): the
+//! [`VehicleSystem`] and its state, the per-wheelset results of an
+//! evaluation ([`WheelsetSnapshot`]), and the [`OdeSystem`] implementation
+//! (f and the accepted-state bookkeeping: hysteresis memory, counters,
+//! stop at the end of the track). Built by [`VehicleSystem::assemble`]
+//! (`assemble.rs`), evaluated by [`VehicleSystem::evaluate`]
+//! (`evaluate.rs`); settings in `settings.rs`, errors in `error.rs`, the
+//! energy ledger in `energy.rs`.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use nalgebra::Vector3;
+
+use super::contact_source::ContactSource;
+use super::track_motion::{SpeedRamp, TrackRelative};
+use super::vehicle::{End, VehicleModel};
+use crate::contact::{ContactSolver, WheelsetContacts};
+use crate::forces::contact_force::ContactForce;
+use crate::forces::normal::ContactMemory;
+use crate::geometry::profile::{MAX_SEGMENTS, Zone};
+use crate::geometry::track::{Side, TrackTables};
+use crate::integrators::{Control, OdeSystem};
+use crate::multibody::body::{BodyState, Wrench, derivatives};
+use crate::multibody::element::{Anchor, SpringDamper};
+use crate::multibody::{DynamicsError, EnergyLedger, SystemSettings};
+
+/// Step of the central difference giving a reference's velocity and
+/// angular velocity from the track frame (m).
+pub(super) const REFERENCE_DS_M: f64 = 0.05;
+
+/// Everything computed for one wheelset at one evaluation.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct WheelsetSnapshot {
+    pub relative: TrackRelative,
+    pub contacts: WheelsetContacts,
+    /// Forces of the candidates in contact, `[left, right][piece]`.
+    pub forces: [[Option<ContactForce>; MAX_SEGMENTS]; 2],
+    /// Spin about the axle (rad/s).
+    pub spin_rad_s: f64,
+    /// Torque applied about the axle (N·m), + driving forwards: the axle
+    /// torque plus the friction brake's ([`SystemSettings`]).
+    pub axle_torque_nm: f64,
+}
+
+impl WheelsetSnapshot {
+    /// Whether any flange piece of `side` is in contact.
+    pub fn flange_contact(&self, side: Side) -> bool {
+        let i = side_index(side);
+        self.contacts.candidates[i]
+            .iter()
+            .flatten()
+            .any(|c| c.zone == Zone::Flange && c.in_contact())
+    }
+}
+
+/// Counters of a run.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct RunCounters {
+    /// Right-hand-side evaluations (integrator stages and output samples).
+    pub evaluations: u64,
+    /// Accepted states.
+    pub accepted: u64,
+    /// Accepted states at which each wheel (wheelset-major, left then right)
+    /// had flange contact — summed over wheels.
+    pub flange_contact_states: u64,
+}
+
+pub(super) fn side_index(side: Side) -> usize {
+    match side {
+        Side::Left => 0,
+        Side::Right => 1,
+    }
+}
+
+pub(super) type Memories = [[ContactMemory; MAX_SEGMENTS]; 2];
+
+/// The vehicle on the track (module docs). Built by [`VehicleSystem::assemble`].
+pub struct VehicleSystem<'a> {
+    pub(super) track: &'a TrackTables,
+    pub(super) vehicle: &'a VehicleModel,
+    pub(super) settings: SystemSettings,
+    pub(super) elements: Vec<SpringDamper>,
+    pub(super) solvers: Vec<ContactSolver>,
+    /// Where each wheelset's contacts come from.
+    pub(super) sources: Vec<Box<dyn ContactSource>>,
+    pub(super) s_guess: Vec<f64>,
+    pub(super) memory: Vec<Memories>,
+    pub(super) pending: Vec<Memories>,
+    pub(super) snapshots: Vec<WheelsetSnapshot>,
+    pub(super) states: Vec<BodyState>,
+    pub(super) anchors: Vec<Anchor>,
+    pub(super) wrenches: Vec<Wrench>,
+    pub(super) counters: RunCounters,
+    pub(super) flange_states: Vec<[u64; 2]>,
+    pub(super) stop: Option<Arc<AtomicBool>>,
+    pub(super) progress: Option<Box<dyn FnMut(f64) + 'a>>,
+    /// Stop when the vehicle reference passes this track distance (m).
+    pub(super) s_stop_m: f64,
+    /// The references' speed against time.
+    pub(super) ramp: SpeedRamp,
+    /// Energy bookkeeping, when enabled ([`Self::enable_energy_ledger`]).
+    pub(super) ledger: Option<EnergyLedger>,
+    /// The run was stopped because a wheelset or the vehicle reference
+    /// came within [`TRACK_END_MARGIN_M`] of the end of the tables (or
+    /// [`TRACK_START_MARGIN_M`] of their start).
+    pub(super) track_end_reached: bool,
+}
+
+/// A run stops when the vehicle reference point or a wheelset comes this
+/// close to an end of the track tables (m): a contact point may lead or lag
+/// its axle, and the reference anchors look ±5 cm along (`REFERENCE_DS_M`).
+pub const TRACK_END_MARGIN_M: f64 = 2.0;
+
+/// The same at the start of the tables (m), reached only by running
+/// backwards: smaller, so that a run may start close to the start (a
+/// contact point lags its axle by a few centimetres at most).
+pub const TRACK_START_MARGIN_M: f64 = 0.5;
+
+impl<'a> VehicleSystem<'a> {
+    /// Stop cleanly (at the next accepted state) when `flag` becomes true
+    /// (Ctrl-C).
+    pub fn set_stop_flag(&mut self, flag: Arc<AtomicBool>) {
+        self.stop = Some(flag);
+    }
+
+    /// Called with the time of every accepted state (progress reporting;
+    /// the library never prints).
+    pub fn set_progress(&mut self, progress: Box<dyn FnMut(f64) + 'a>) {
+        self.progress = Some(progress);
+    }
+
+    pub fn track(&self) -> &'a TrackTables {
+        self.track
+    }
+
+    pub fn settings(&self) -> &SystemSettings {
+        &self.settings
+    }
+
+    pub fn vehicle(&self) -> &VehicleModel {
+        self.vehicle
+    }
+
+    pub fn counters(&self) -> RunCounters {
+        self.counters
+    }
+
+    /// Accepted states with flange contact, per wheelset `[left, right]`.
+    pub fn flange_contact_states(&self) -> &[[u64; 2]] {
+        &self.flange_states
+    }
+
+    /// The contact solvers (statistics: solves, iterations, cold starts).
+    pub fn solvers(&self) -> &[ContactSolver] {
+        &self.solvers
+    }
+
+    /// The per-wheelset results of the last evaluation.
+    pub fn snapshots(&self) -> &[WheelsetSnapshot] {
+        &self.snapshots
+    }
+
+    /// The body states of the last evaluation (wheelsets first).
+    pub fn states(&self) -> &[BodyState] {
+        &self.states
+    }
+
+    /// Speed of the references at time `t_s` (m/s): the ramp of
+    /// [`SystemSettings::speed_ramp`] (constant, braking to a stop or to
+    /// a final speed, accelerating).
+    pub fn speed_at_m_s(&self, t_s: f64) -> f64 {
+        self.ramp.speed_m_s(t_s)
+    }
+
+    /// Track distance of the vehicle reference point at time `t_s` (m): the
+    /// integral of [`Self::speed_at_m_s`].
+    pub fn s_vehicle_m(&self, t_s: f64) -> f64 {
+        self.settings.s_start_m + self.ramp.distance_m(t_s)
+    }
+
+    /// Track distance beyond which the run stops (m).
+    pub fn s_stop_m(&self) -> f64 {
+        self.s_stop_m
+    }
+
+    /// Whether the run was stopped at an end of the track tables (the
+    /// vehicle reference or a wheelset within [`TRACK_END_MARGIN_M`] of
+    /// the end or [`TRACK_START_MARGIN_M`] of the start).
+    pub fn track_end_reached(&self) -> bool {
+        self.track_end_reached
+    }
+
+    /// Keeps an [`EnergyLedger`] from the next accepted state on (costs one
+    /// energy and power evaluation per accepted state).
+    pub fn enable_energy_ledger(&mut self) {
+        self.ledger = Some(EnergyLedger::default());
+    }
+
+    /// The energy bookkeeping so far, if enabled.
+    pub fn energy_ledger(&self) -> Option<&EnergyLedger> {
+        self.ledger.as_ref()
+    }
+
+    pub(super) fn anchor_index(&self, end: End) -> Option<usize> {
+        let n_ws = self.vehicle.wheelsets.len();
+        let n_b = self.vehicle.bodies.len();
+        match end {
+            End::Ground => None,
+            End::Wheelset(i) => Some(i),
+            End::Body(i) => Some(n_ws + i),
+            End::Reference(i) => Some(n_ws + n_b + i),
+        }
+    }
+}
+
+impl OdeSystem for VehicleSystem<'_> {
+    type Error = DynamicsError;
+
+    fn rhs(&mut self, t: f64, y: &[f64], dydt: &mut [f64]) -> Result<(), DynamicsError> {
+        self.evaluate(t, y)?;
+        let g = Vector3::new(0.0, 0.0, -self.settings.gravity_m_s2);
+        let vehicle = self.vehicle;
+        let bodies = vehicle
+            .wheelsets
+            .iter()
+            .map(|w| &w.body)
+            .chain(vehicle.bodies.iter().map(|b| &b.body));
+        for (k, body) in bodies.enumerate() {
+            derivatives(
+                body,
+                &self.states[k],
+                &self.wrenches[k],
+                &g,
+                &mut dydt[BodyState::slot(k)],
+            );
+        }
+        Ok(())
+    }
+
+    fn accept(&mut self, t: f64, _y: &[f64]) -> Result<Control, DynamicsError> {
+        // The last rhs call was at this state: its hysteresis memory is the
+        // one to keep.
+        self.memory.clone_from(&self.pending);
+        self.counters.accepted += 1;
+        for (i, snap) in self.snapshots.iter().enumerate() {
+            for side in Side::BOTH {
+                if snap.flange_contact(side) {
+                    self.flange_states[i][side_index(side)] += 1;
+                    self.counters.flange_contact_states += 1;
+                }
+            }
+        }
+        if let Some(p) = &mut self.progress {
+            p(t);
+        }
+        let stop_requested = self
+            .stop
+            .as_ref()
+            .is_some_and(|f| f.load(Ordering::Relaxed));
+        if self.ledger.is_some() {
+            let (p, e) = (self.powers_w(), self.mechanical_energy_j());
+            if let Some(l) = &mut self.ledger {
+                l.add(t, p, e);
+            }
+        }
+        // Forwards: the vehicle reference or a wheelset near the far end;
+        // backwards (a reversal, or a wheelset driven back): near the start.
+        let (lo, hi) = self.track.centerline.range_m();
+        let s_vehicle = self.s_vehicle_m(t);
+        let min_x = self
+            .vehicle
+            .wheelsets
+            .iter()
+            .map(|w| w.x_m)
+            .fold(0.0_f64, f64::min);
+        let end_of_track = s_vehicle > self.s_stop_m
+            || s_vehicle + min_x < lo + TRACK_START_MARGIN_M
+            || self
+                .s_guess
+                .iter()
+                .any(|&s| s > hi - TRACK_END_MARGIN_M || s < lo + TRACK_START_MARGIN_M);
+        self.track_end_reached |= end_of_track;
+        Ok(if stop_requested || end_of_track {
+            Control::Stop
+        } else {
+            Control::Continue
+        })
+    }
+}
