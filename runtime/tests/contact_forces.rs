@@ -9,15 +9,15 @@
 use runtime::contact::quasi_static::{Settled, Support, settle};
 use runtime::contact::{Candidate, WheelsetContactModel};
 use runtime::fixtures::wheelsets::{flange_solver, s1002_uic60, straight_track_for};
-use runtime::forces::contact_force::{
-    ContactForceError, ContactForceSettings, WheelsetMotion, contact_creepages, evaluate_contact,
-    hertz_shape, tangential_forces,
-};
 use runtime::forces::creep::{CreepLaw, kalker_coefficients};
 use runtime::forces::hertz::{HertzError, Material};
 use runtime::forces::normal::ContactMemory;
 use runtime::geometry::profile::Zone;
 use runtime::geometry::track::{Side, TrackTables};
+use runtime::multibody::contact_force::{
+    ContactForceError, ContactForceSettings, WheelsetMotion, contact_creepages, evaluate_contact,
+    hertz_shape, tangential_forces,
+};
 
 const LOAD_N: f64 = 50e3;
 const SPEED_M_S: f64 = 30.0;

@@ -9,12 +9,12 @@
 use nalgebra::{Matrix3, Vector3};
 use runtime::contact::{ContactOptions, FlangeSearch};
 use runtime::fixtures::wheelsets;
-use runtime::forces::contact_force::ContactForceSettings;
 use runtime::forces::creep::CreepLaw;
 use runtime::forces::normal::NormalForceModel;
 use runtime::geometry::track::TrackTables;
 use runtime::integrators::{Method, OutputGrid, Rk4, integrate};
 use runtime::multibody::body::RigidBody;
+use runtime::multibody::contact_force::ContactForceSettings;
 use runtime::multibody::{
     InitialConditions, SystemSettings, VehicleModel, VehicleSystem, WheelsetSpec,
 };

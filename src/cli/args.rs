@@ -390,7 +390,7 @@ impl ContactArgs {
     pub fn to_rolling(&self) -> Result<crate::studies::contact::Rolling> {
         let creep_law = CreepLaw::from_name(&self.creep)
             .with_context(|| format!("--creep {}: unknown creep law", self.creep))?;
-        let settings = runtime::forces::contact_force::ContactForceSettings {
+        let settings = runtime::multibody::contact_force::ContactForceSettings {
             material: crate::studies::contact::material(self.young_pa, self.poisson),
             friction_coefficient: self.mu,
             creep_law,

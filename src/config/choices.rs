@@ -5,7 +5,7 @@
 //! it accepts.
 
 use runtime::contact::FlangeSearch;
-use runtime::forces::contact_force::NonHertzianPolicy;
+use runtime::multibody::contact_force::NonHertzianPolicy;
 
 /// Defines a choice enum with its scene-file words: serde, `Display`,
 /// `FromStr` (for the command line) and the list of words.

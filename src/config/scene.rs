@@ -188,7 +188,7 @@ pub struct ContactSection {
     /// Where the contact geometry is not Hertzian (conformal): `stop` (the
     /// run ends with a diagnostic naming the time, wheel, zone and state)
     /// or `floor` (go on with floored curvatures, flagged and counted;
-    /// `runtime::forces::contact_force::NonHertzianPolicy`).
+    /// `runtime::multibody::contact_force::NonHertzianPolicy`).
     #[serde(default = "default_non_hertzian")]
     pub non_hertzian: NonHertzianMode,
 }

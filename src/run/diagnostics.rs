@@ -17,7 +17,7 @@
 //!   contact; `runtime::contact::ContactOptions`, always on), and, with
 //!   `[contact] non_hertzian = "floor"`, ellipses from floored curvatures
 //!   where the geometry is not Hertzian
-//!   (`runtime::forces::contact_force::NonHertzianPolicy`; the default `stop` ends
+//!   (`runtime::multibody::contact_force::NonHertzianPolicy`; the default `stop` ends
 //!   the run with the diagnostic instead).
 //! - **Nadal's criterion** per wheel ([`runtime::contact::nadal`]): the
 //!   largest Y/Q of the samples and of its sliding mean over 2 m of track
@@ -35,10 +35,10 @@
 use std::ops::{Deref, DerefMut};
 
 use runtime::contact::ContactError;
-use runtime::forces::contact_force::ContactForceError;
 use runtime::forces::hertz::HertzError;
 use runtime::integrators::{Control, IntegrationStats, IntegratorError, OdeSystem};
 use runtime::multibody::body::BodyState;
+use runtime::multibody::contact_force::ContactForceError;
 use runtime::multibody::track_motion::{project_s, track_relative, track_rotation};
 use runtime::multibody::{DynamicsError, VehicleSystem};
 use runtime::results::{WHEEL_GROUPS, WheelsetSeries};

@@ -8,11 +8,11 @@ use std::sync::Arc;
 
 use anyhow::{Context, Result};
 use runtime::contact::{ContactOptions, FlangeSearch};
-use runtime::forces::contact_force::ContactForceSettings;
 use runtime::forces::creepage::CreepageOptions;
 use runtime::forces::hertz::Material;
 use runtime::forces::normal::NormalForceModel;
 use runtime::geometry::track::TrackTables;
+use runtime::multibody::contact_force::ContactForceSettings;
 use runtime::multibody::imported_contact::ImportedContactMethod;
 use runtime::multibody::{ContactMethod, SystemSettings};
 

@@ -4,17 +4,17 @@
 //! Manchester contact benchmark), or rigid contact — and, for a wheelset
 //! rolling at a given speed, the contact forces of each contact: Hertz
 //! ellipse, creepages and the creep forces of the chosen law
-//! (`runtime::forces::contact_force`).
+//! (`runtime::multibody::contact_force`).
 
 use anyhow::{Context, Result};
 use preproc::contact_table::{ContactTableConfig, TableSupport};
 use runtime::contact::quasi_static::{Settled, Support, settle};
 use runtime::contact::{Candidate, ContactOptions, ContactSolver, FlangeSearch};
-use runtime::forces::contact_force::{
-    ContactForceSettings, WheelsetMotion, contact_creepages, hertz_shape, tangential_forces,
-};
 use runtime::forces::hertz::Material;
 use runtime::geometry::track::{Side, straight_track};
+use runtime::multibody::contact_force::{
+    ContactForceSettings, WheelsetMotion, contact_creepages, hertz_shape, tangential_forces,
+};
 use serde::Serialize;
 
 /// The wheelset's settled pose.

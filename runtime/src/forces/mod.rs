@@ -1,10 +1,10 @@
 //! Contact forces (paper §4.4–4.5; `docs/reference/07-contact-forces.md`):
 //! the Hertz ellipse ([`hertz`], with the elliptic integrals of
 //! [`elliptic`]), the normal force with hysteresis damping ([`normal`]),
-//! creepages ([`creepage`]), the creep laws ([`creep`]) and their
-//! combination per contact ([`contact_force`]).
+//! creepages ([`creepage`]) and the creep laws ([`creep`]). Their
+//! combination per contact of the multibody system is
+//! [`crate::multibody::contact_force`].
 
-pub mod contact_force;
 pub mod creep;
 pub mod creepage;
 pub mod elliptic;

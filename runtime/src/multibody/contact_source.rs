@@ -57,11 +57,11 @@ use super::track_motion::TrackRelative;
 use super::vehicle::WheelsetSpec;
 use crate::contact::quasi_static::{Settled, Support, settle};
 use crate::contact::{Candidate, ContactError, ContactSolver, WheelsetContacts, WheelsetPose};
-use crate::forces::contact_force::{
-    ContactForce, ContactForceError, ContactForceSettings, WheelsetMotion, evaluate_contact,
-};
 use crate::forces::normal::ContactMemory;
 use crate::geometry::track::TrackTables;
+use crate::multibody::contact_force::{
+    ContactForce, ContactForceError, ContactForceSettings, WheelsetMotion, evaluate_contact,
+};
 
 /// What a [`ContactSource`] may use besides its own data: the track, the
 /// wheelset (profiles as a contact model, static wheel load, nominal

@@ -2,9 +2,9 @@
 //! element or setting concerned, and the time.
 
 use crate::contact::ContactError;
-use crate::forces::contact_force::ContactForceError;
 use crate::geometry::track::TrackError;
 use crate::multibody::body::BodyError;
+use crate::multibody::contact_force::ContactForceError;
 use crate::multibody::element::ElementError;
 
 /// Why the simulation cannot go on.

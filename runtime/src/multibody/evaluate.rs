@@ -9,7 +9,7 @@
 //!    contact lookup table; or an imported table);
 //! c. normal forces (online and table: Hertz with hysteresis,
 //!    [`crate::forces::normal`]) and
-//! d. creepages and creep forces ([`crate::forces::contact_force`]), from the
+//! d. creepages and creep forces ([`crate::multibody::contact_force`]), from the
 //!    same source;
 //! e. suspension forces (elements between bodies, wheelsets and the
 //!    track-following references) and gravity;
@@ -28,9 +28,9 @@ use super::settings::BRAKE_STICK_SPEED_M_S;
 use super::system::{REFERENCE_DS_M, VehicleSystem};
 use super::track_motion::{project_s, reference_anchor, track_relative, track_rotation};
 use crate::contact::WheelsetPose;
-use crate::forces::contact_force::WheelsetMotion;
 use crate::forces::normal::ContactMemory;
 use crate::multibody::body::{BodyState, Wrench};
+use crate::multibody::contact_force::WheelsetMotion;
 use crate::multibody::element::Anchor;
 
 impl VehicleSystem<'_> {

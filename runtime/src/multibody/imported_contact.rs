@@ -97,16 +97,16 @@ use crate::contact::quasi_static::Settled;
 use crate::contact::{
     Candidate, ContactError, Curvatures, SolveMethod, SurfaceParams, WheelsetContacts, WheelsetPose,
 };
-use crate::forces::contact_force::{
-    ContactForce, ContactForceError, ContactForceSettings, TangentialContact, WheelsetMotion,
-    contact_creepages,
-};
 use crate::forces::creep::{CreepForces, CreepInput, CreepLaw, KalkerCoefficients};
 use crate::forces::hertz::{HertzContact, HertzError, HertzShape};
 use crate::forces::normal::{ContactMemory, NormalForce};
 use crate::geometry::profile::{MAX_SEGMENTS, Zone};
 use crate::geometry::track::grid::within;
 use crate::geometry::track::{Side, TrackError, TrackTables};
+use crate::multibody::contact_force::{
+    ContactForce, ContactForceError, ContactForceSettings, TangentialContact, WheelsetMotion,
+    contact_creepages,
+};
 
 /// The imported-table contact method of a run (module docs).
 #[derive(Debug, Clone, PartialEq)]

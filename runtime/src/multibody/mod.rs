@@ -3,6 +3,8 @@
 //!
 //! - [`body`]: rigid bodies, their state and Newton–Euler equations;
 //! - [`element`]: spring–dampers between bodies;
+//! - [`contact_force`]: the per-contact pipeline from a contact point to
+//!   the forces on the wheel (Hertz, normal force, creepages, creep law);
 //! - [`vehicle`]: the vehicle as plain data (wheelsets, free bodies,
 //!   track-following references, spring–dampers) at its assembly
 //!   configuration;
@@ -27,6 +29,7 @@
 
 mod assemble;
 pub mod body;
+pub mod contact_force;
 pub mod contact_source;
 pub mod element;
 mod energy;

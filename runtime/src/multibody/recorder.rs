@@ -192,7 +192,7 @@ fn main_contact(
     zone: Zone,
 ) -> Option<(
     crate::contact::Candidate,
-    crate::forces::contact_force::ContactForce,
+    crate::multibody::contact_force::ContactForce,
 )> {
     (0..MAX_SEGMENTS)
         .filter_map(

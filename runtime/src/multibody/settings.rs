@@ -10,7 +10,7 @@ use super::imported_contact::ImportedContactMethod;
 use super::track_motion::SpeedRamp;
 use crate::contact::ContactOptions;
 use crate::contact::table::ContactTable;
-use crate::forces::contact_force::ContactForceSettings;
+use crate::multibody::contact_force::ContactForceSettings;
 
 /// Rim speed (m/s) below which the friction brake's torque
 /// ([`SystemSettings::axle_brake_torque_nm`]) is proportional to the spin

@@ -17,12 +17,12 @@ use super::contact_source::ContactSource;
 use super::track_motion::{SpeedRamp, TrackRelative};
 use super::vehicle::{End, VehicleModel};
 use crate::contact::{ContactSolver, WheelsetContacts};
-use crate::forces::contact_force::ContactForce;
 use crate::forces::normal::ContactMemory;
 use crate::geometry::profile::{MAX_SEGMENTS, Zone};
 use crate::geometry::track::{Side, TrackTables};
 use crate::integrators::{Control, OdeSystem};
 use crate::multibody::body::{BodyState, Wrench, derivatives};
+use crate::multibody::contact_force::ContactForce;
 use crate::multibody::element::{Anchor, SpringDamper};
 use crate::multibody::{DynamicsError, EnergyLedger, SystemSettings};
 

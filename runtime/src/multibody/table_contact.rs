@@ -28,12 +28,12 @@ use crate::contact::table::{ContactTable, ContactTableError};
 use crate::contact::{
     Candidate, ContactError, SurfaceParams, WheelsetContactModel, WheelsetContacts, WheelsetPose,
 };
-use crate::forces::contact_force::{
-    ContactForce, ContactForceError, ContactForceSettings, WheelsetMotion, evaluate_contact,
-};
 use crate::forces::normal::ContactMemory;
 use crate::geometry::profile::Zone;
 use crate::geometry::track::{Side, TrackError, TrackTables};
+use crate::multibody::contact_force::{
+    ContactForce, ContactForceError, ContactForceSettings, WheelsetMotion, evaluate_contact,
+};
 
 /// Tolerance when matching a table point to a piece of the wheel (m).
 const PIECE_TOL_M: f64 = 1e-4;

@@ -162,7 +162,7 @@ pub struct ZoneSample {
 /// minimisation fallback of the contact search (nearly conformal contact).
 pub const FALLBACK_MINIMISATION: u8 = 1;
 /// [`ZoneSeries::fallback`] bit: non-Hertzian geometry, the ellipse from
-/// floored curvatures (`crate::forces::contact_force::NonHertzianPolicy::Floor`).
+/// floored curvatures (`crate::multibody::contact_force::NonHertzianPolicy::Floor`).
 pub const FALLBACK_HERTZ_FLOOR: u8 = 2;
 
 impl ZoneSample {
