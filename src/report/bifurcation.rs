@@ -1,7 +1,7 @@
 //! The bifurcation diagram's reports: `bifurcation.csv`,
 //! `bifurcation.png` and the text summary (`docs/guide/critical-speed.md`).
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 
 use crate::studies::bifurcation::Bifurcation;
 
@@ -16,8 +16,7 @@ impl Bifurcation {
             }
         }
         let csv_path = dir.join("bifurcation.csv");
-        runtime::io::write_atomically(&csv_path, |tmp| std::fs::write(tmp, &csv))
-            .with_context(|| format!("writing {}", csv_path.display()))?;
+        super::write_text(&csv_path, &csv)?;
         let chart = LineChart::new(
             format!("Bifurcation diagram, {}", self.scene),
             "speed [m/s]",

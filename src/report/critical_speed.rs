@@ -117,8 +117,7 @@ impl CriticalSpeedReport {
             );
         }
         let csv_path = dir.join("rates.csv");
-        runtime::io::write_atomically(&csv_path, |tmp| std::fs::write(tmp, &csv))
-            .with_context(|| format!("writing {}", csv_path.display()))?;
+        super::write_text(&csv_path, &csv)?;
         let png = dir.join("rates.png");
         write_line_chart(&png, &chart, (1600, 900))?;
         self.files.push(csv_path.display().to_string());

@@ -7,3 +7,15 @@ pub mod run_files;
 pub mod run_plots;
 pub mod run_text;
 pub mod tradeoff;
+
+use std::path::Path;
+
+use anyhow::{Context, Result};
+
+/// A text file (CSV, markdown, JSON) written all-or-nothing
+/// (`runtime::io::atomic`): nothing appears at `path` unless all of it was
+/// written.
+pub fn write_text(path: &Path, text: &str) -> Result<()> {
+    runtime::io::write_atomically(path, |tmp| std::fs::write(tmp, text))
+        .with_context(|| format!("writing {}", path.display()))
+}

@@ -6,6 +6,7 @@ use std::path::Path;
 
 use anyhow::{Context, Result};
 
+use super::write_text;
 use crate::studies::tradeoff::{TradeoffReport, VariantResult};
 
 /// Errors below this are drawn at it on the log axis of `pareto.png` (m).
@@ -360,11 +361,9 @@ impl TradeoffReport {
     pub fn write(&mut self, dir: &Path, json: bool) -> Result<()> {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
         let csv = dir.join("tradeoff.csv");
-        std::fs::write(&csv, self.to_csv())
-            .with_context(|| format!("writing {}", csv.display()))?;
+        write_text(&csv, &self.to_csv())?;
         let md = dir.join("tradeoff.md");
-        std::fs::write(&md, self.to_markdown())
-            .with_context(|| format!("writing {}", md.display()))?;
+        write_text(&md, &self.to_markdown())?;
         let png = dir.join("pareto.png");
         preproc::plot::write_line_chart(&png, &self.pareto_chart(), (1800, 1100))
             .context("writing the Pareto chart")?;
@@ -376,8 +375,7 @@ impl TradeoffReport {
         if json {
             let path = dir.join("tradeoff.json");
             self.files.push(path.display().to_string());
-            std::fs::write(&path, serde_json::to_string_pretty(self)?)
-                .with_context(|| format!("writing {}", path.display()))?;
+            write_text(&path, &serde_json::to_string_pretty(self)?)?;
         }
         Ok(())
     }

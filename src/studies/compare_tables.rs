@@ -347,10 +347,14 @@ fn write_plots(
     Ok(written)
 }
 
+/// Written all-or-nothing (`runtime::io::atomic`).
 fn write_csv(path: &Path, points: &[Point]) -> Result<()> {
-    let mut f = std::io::BufWriter::new(
-        std::fs::File::create(path).with_context(|| format!("creating {}", path.display()))?,
-    );
+    runtime::io::write_atomically(path, |tmp| csv_rows(tmp, points))
+        .with_context(|| format!("writing {}", path.display()))
+}
+
+fn csv_rows(path: &Path, points: &[Point]) -> std::io::Result<()> {
+    let mut f = std::io::BufWriter::new(std::fs::File::create(path)?);
     let names = [
         "r_m",
         "contact_angle_rad",
@@ -374,8 +378,6 @@ fn write_csv(path: &Path, points: &[Point]) -> Result<()> {
         writeln!(f, "{}", row.join(","))?;
     }
     f.flush()
-        .with_context(|| format!("writing {}", path.display()))?;
-    Ok(())
 }
 
 fn file_name(path: &str) -> String {

@@ -349,7 +349,8 @@ impl CreepCurves {
                 text += "\n";
             }
         }
-        std::fs::write(&csv, text).with_context(|| format!("writing {}", csv.display()))?;
+        runtime::io::write_atomically(&csv, |tmp| std::fs::write(tmp, &text))
+            .with_context(|| format!("writing {}", csv.display()))?;
         Ok(vec![png, csv])
     }
 }
