@@ -206,6 +206,36 @@ pub struct CriticalSpeed {
     pub note: Option<String>,
 }
 
+impl CriticalSpeed {
+    /// The result of a bracketing search: the zero crossing of the rate
+    /// interpolated in the final bracket `br` (m/s), if there is one.
+    fn bracketed(
+        creep_law: CreepLawName,
+        method: CriticalSpeedMethod,
+        samples: Vec<SpeedSample>,
+        br: Option<(f64, f64)>,
+        note: Option<String>,
+    ) -> CriticalSpeed {
+        let (speed, freq) = match br {
+            Some(b) => {
+                let (v, f) = interpolate(&samples, b);
+                (Some(v), Some(f))
+            }
+            None => (None, None),
+        };
+        CriticalSpeed {
+            creep_law,
+            method,
+            speed_m_s: speed,
+            speed_km_h: speed.map(|v| v * 3.6),
+            bracket_m_s: br,
+            frequency_hz: freq,
+            samples,
+            note,
+        }
+    }
+}
+
 /// Search settings (checked by [`CriticalSpeedSettings::validate`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct CriticalSpeedSettings {
@@ -436,23 +466,13 @@ pub fn time_domain(
         ))
     };
     let (samples, br, note) = bracket(settings, &rate, &stop)?;
-    let (speed, freq) = match br {
-        Some(b) => {
-            let (v, f) = interpolate(&samples, b);
-            (Some(v), Some(f))
-        }
-        None => (None, None),
-    };
-    Ok(CriticalSpeed {
-        creep_law: law,
-        method: CriticalSpeedMethod::Time,
-        speed_m_s: speed,
-        speed_km_h: speed.map(|v| v * 3.6),
-        bracket_m_s: br,
-        frequency_hz: freq,
+    Ok(CriticalSpeed::bracketed(
+        law,
+        CriticalSpeedMethod::Time,
         samples,
+        br,
         note,
-    })
+    ))
 }
 
 /// The hunting mode of the scene's vehicle at speed `v` with `law`.
@@ -498,23 +518,13 @@ pub fn linear_domain(
         ))
     };
     let (samples, br, note) = bracket(settings, &rate, &stop)?;
-    let (speed, freq) = match br {
-        Some(b) => {
-            let (v, f) = interpolate(&samples, b);
-            (Some(v), Some(f))
-        }
-        None => (None, None),
-    };
-    Ok(CriticalSpeed {
-        creep_law: law,
-        method: CriticalSpeedMethod::Linear,
-        speed_m_s: speed,
-        speed_km_h: speed.map(|v| v * 3.6),
-        bracket_m_s: br,
-        frequency_hz: freq,
+    Ok(CriticalSpeed::bracketed(
+        law,
+        CriticalSpeedMethod::Linear,
         samples,
+        br,
         note,
-    })
+    ))
 }
 
 /// Nonlinear critical speed by a speed ramp (module docs).

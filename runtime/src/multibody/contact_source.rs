@@ -78,7 +78,9 @@ pub trait ContactSource: std::fmt::Debug {
     /// The wheelset seated on the rails under its static wheel load at
     /// track distance `s_m` (m), lateral shift `y_m` (m, + left) and
     /// `yaw_rad` (rad, + nose left), with the run's force settings
-    /// (material of the Hertz contacts).
+    /// (material of the Hertz contacts). By default on the wheelset's
+    /// profiles with elastic support ([`settle_on_profiles`]); a source
+    /// with its own contact geometry (imported) settles on that.
     fn settle(
         &mut self,
         ctx: ContactContext<'_>,
@@ -86,7 +88,9 @@ pub trait ContactSource: std::fmt::Debug {
         s_m: f64,
         y_m: f64,
         yaw_rad: f64,
-    ) -> Result<Settled, ContactError>;
+    ) -> Result<Settled, ContactError> {
+        settle_on_profiles(ctx, forces, s_m, y_m, yaw_rad)
+    }
 
     /// The wheelset's candidates at `pose`, `relative` to the track.
     fn contacts(
@@ -133,17 +137,6 @@ pub(super) fn settle_on_profiles(
 pub struct OnlineContact;
 
 impl ContactSource for OnlineContact {
-    fn settle(
-        &mut self,
-        ctx: ContactContext<'_>,
-        forces: &ContactForceSettings,
-        s_m: f64,
-        y_m: f64,
-        yaw_rad: f64,
-    ) -> Result<Settled, ContactError> {
-        settle_on_profiles(ctx, forces, s_m, y_m, yaw_rad)
-    }
-
     fn contacts(
         &mut self,
         ctx: ContactContext<'_>,

@@ -21,9 +21,8 @@
 
 use std::sync::Arc;
 
-use super::contact_source::{ContactContext, ContactSource, settle_on_profiles};
+use super::contact_source::{ContactContext, ContactSource};
 use super::track_motion::TrackRelative;
-use crate::contact::quasi_static::Settled;
 use crate::contact::table::{ContactTable, ContactTableError};
 use crate::contact::{
     Candidate, ContactError, SurfaceParams, WheelsetContactModel, WheelsetContacts, WheelsetPose,
@@ -54,17 +53,6 @@ impl TableContact {
 }
 
 impl ContactSource for TableContact {
-    fn settle(
-        &mut self,
-        ctx: ContactContext<'_>,
-        forces: &ContactForceSettings,
-        s_m: f64,
-        y_m: f64,
-        yaw_rad: f64,
-    ) -> Result<Settled, ContactError> {
-        settle_on_profiles(ctx, forces, s_m, y_m, yaw_rad)
-    }
-
     fn contacts(
         &mut self,
         ctx: ContactContext<'_>,
