@@ -5,7 +5,7 @@
 use std::time::Instant;
 
 use anyhow::{Context, Result};
-use preproc::{BuildConfig, BuildRequest, Inclination, NoProgress, run_build};
+use preproc::{BuildConfig, BuildRequest, Inclination, NoProgress, build_tables};
 use runtime::geometry::track::TrackTables;
 use serde::Serialize;
 
@@ -120,8 +120,12 @@ pub fn load_track(ls: &LoadedScene) -> Result<(TrackTables, TrackSource)> {
         contact: None,
         command_line: format!("sim run {} (tables built on demand)", ls.origin),
     };
-    run_build(&req, &NoProgress).context("building the track tables")?;
-    let tables = runtime::io::schema::read_track(&path)?;
+    // Built in memory and used as built; the cache file (written
+    // all-or-nothing) serves the next run.
+    let (tables, provenance) =
+        build_tables(&req, &NoProgress).context("building the track tables")?;
+    runtime::io::schema::write_track_file(&path, &tables, &provenance)
+        .with_context(|| format!("caching the track tables in {}", path.display()))?;
     Ok((
         tables,
         TrackSource {
