@@ -5,6 +5,7 @@ use std::process::ExitCode;
 use clap::Parser;
 
 fn main() -> ExitCode {
+    preproc::cli::exit_quietly_on_closed_pipe();
     let cli = railsim::cli::Cli::parse();
     match railsim::cli::run(cli) {
         Ok(()) => ExitCode::SUCCESS,

@@ -457,3 +457,17 @@ fn import_contact_table(args: &ImportContactTableArgs) -> Result<()> {
     }
     Ok(())
 }
+
+/// Makes a closed standard output (`track-preproc … | head`, `sim probe … |
+/// head`) end the process quietly, as it ends Unix tools: Rust programs
+/// ignore SIGPIPE, so `println!` to a closed pipe would panic ("failed
+/// printing to stdout: Broken pipe"). Call first thing in `main`, before
+/// any thread starts.
+pub fn exit_quietly_on_closed_pipe() {
+    #[cfg(unix)]
+    // SAFETY: sets the disposition of one signal to its default; called at
+    // the start of `main`, before any other thread exists.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}

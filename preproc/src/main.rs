@@ -5,6 +5,7 @@ use std::process::ExitCode;
 use clap::Parser;
 
 fn main() -> ExitCode {
+    preproc::cli::exit_quietly_on_closed_pipe();
     let cli = preproc::cli::Cli::parse();
     match preproc::cli::run(cli) {
         Ok(()) => ExitCode::SUCCESS,

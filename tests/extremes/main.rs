@@ -14,3 +14,4 @@ mod contact;
 mod fuzz;
 mod motion;
 mod track;
+mod trust;
