@@ -10,6 +10,7 @@ fn main() -> ExitCode {
     match railsim::cli::run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
+            let interrupted = e.downcast_ref::<railsim::cli::Interrupted>().is_some();
             let messages = railsim::error_text::chain_messages(&e);
             for (i, m) in messages.iter().enumerate() {
                 if i == 0 {
@@ -18,7 +19,11 @@ fn main() -> ExitCode {
                     eprintln!("  caused by: {m}");
                 }
             }
-            ExitCode::FAILURE
+            if interrupted {
+                ExitCode::from(railsim::cli::INTERRUPTED_EXIT_CODE)
+            } else {
+                ExitCode::FAILURE
+            }
         }
     }
 }

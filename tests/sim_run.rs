@@ -348,7 +348,8 @@ fn default_scene_writes_results_and_plots() {
 }
 
 /// Ctrl-C stops the run at the next step and the results so far are
-/// written, marked as interrupted.
+/// written, marked as interrupted; `sim run` then exits with 130, so that
+/// `sim run … && next-step` does not go on with a partial run.
 #[test]
 fn ctrl_c_stops_cleanly_and_writes_the_results() {
     let dir = scratch("run_ctrl_c");
@@ -373,12 +374,17 @@ fn ctrl_c_stops_cleanly_and_writes_the_results() {
     let k = run(std::process::Command::new("kill").args(["-INT", &child.id().to_string()]));
     assert!(k.status.success(), "kill -INT failed");
     let o = child.wait_with_output().expect("sim ends");
-    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(o.status.code(), Some(130), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("interrupted (Ctrl-C)") && stderr(&o).contains("interrupted.h5"),
+        "{}",
+        stderr(&o)
+    );
     let summary: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("JSON");
     assert_eq!(summary["stopped"], "interrupted", "{summary}");
     let t = summary["simulated_time_s"].as_f64().unwrap();
     assert!(t > 0.0 && t < 140.0, "{t}");
     let r = read_results(&out).unwrap();
     assert!(r.len() > 10);
-    assert_eq!(r.attribute("status"), Some("stopped: interrupted"));
+    assert_eq!(r.attribute("status"), Some("interrupted"));
 }

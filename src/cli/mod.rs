@@ -6,6 +6,25 @@ pub mod tradeoff;
 
 use anyhow::{Context, Result};
 
+/// The user interrupted the work (Ctrl-C): `main` exits with 130, the
+/// shell's code for a process ended by SIGINT.
+#[derive(Debug)]
+pub struct Interrupted {
+    /// What was interrupted, and what was kept.
+    pub what: String,
+}
+
+impl std::fmt::Display for Interrupted {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "interrupted (Ctrl-C): {}", self.what)
+    }
+}
+
+impl std::error::Error for Interrupted {}
+
+/// The exit status of an interrupted command (128 + SIGINT).
+pub const INTERRUPTED_EXIT_CODE: u8 = 130;
+
 pub use args::{Cli, Command, ContactArgs, CreepCurveArgs, CriticalSpeedArgs, RunArgs};
 
 /// Run the CLI.
@@ -196,6 +215,13 @@ fn run_command(args: &RunArgs) -> Result<()> {
         println!("{}", serde_json::to_string_pretty(&summary)?);
     } else {
         print!("{}", summary.to_text());
+    }
+    if summary.stopped.as_deref() == Some(crate::run::INTERRUPTED) {
+        // `sim run … && next-step` must not go on with a partial run.
+        return Err(Interrupted {
+            what: format!("the run; the results so far are in {}", summary.output),
+        }
+        .into());
     }
     Ok(())
 }

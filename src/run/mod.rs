@@ -27,6 +27,10 @@ use runtime::results::RunResults;
 
 use crate::config::scene::LoadedScene;
 
+/// Why a run stopped when the user interrupted it (Ctrl-C, SIGINT): the
+/// summary's `stopped` and the results file's `status`.
+pub const INTERRUPTED: &str = "interrupted";
+
 /// Progress of a run, for the CLI's bar.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RunProgress {
@@ -226,7 +230,7 @@ fn run_session(
                 .as_ref()
                 .is_some_and(|f| f.load(std::sync::atomic::Ordering::Relaxed))
             {
-                Some("interrupted".to_string())
+                Some(INTERRUPTED.to_string())
             } else if track_end_reached {
                 Some("end of track".to_string())
             } else {
@@ -256,6 +260,8 @@ fn run_session(
             "status".into(),
             match (&error, &stopped) {
                 (Some(e), _) => format!("failed: {e}"),
+                // Ctrl-C: the file holds a partial run, and says so first.
+                (None, Some(s)) if s == INTERRUPTED => INTERRUPTED.to_string(),
                 (None, Some(s)) => format!("stopped: {s}"),
                 (None, None) => "completed".into(),
             },
