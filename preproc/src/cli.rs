@@ -2,12 +2,13 @@
 //! library, print).
 
 use std::io::IsTerminal;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use runtime::geometry::spline::Scheme;
+use runtime::io::{Output, OutputKind, check_outputs};
 
 use runtime::forces::hertz::Material;
 
@@ -311,6 +312,25 @@ pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Build(args) => {
             let req = args.to_request(command_line())?;
+            // Before the work: no output replaces an input, every output
+            // location can be written (`runtime::io::outputs`).
+            let mut inputs: Vec<PathBuf> = [&req.centerline]
+                .into_iter()
+                .chain(req.cant.iter())
+                .chain(req.irregularities.iter())
+                .cloned()
+                .collect();
+            if let Some(c) = &req.contact {
+                inputs.extend(
+                    crate::contact_table::profile_paths(c)
+                        .into_iter()
+                        .map(|(_, p)| p.to_path_buf()),
+                );
+            }
+            check_outputs(
+                &inputs,
+                &outputs(&req.output, args.contact.plots.as_deref()),
+            )?;
             let sink = BarSink::new();
             let mut summary = run_build(&req, &sink)
                 .with_context(|| format!("building {} failed", req.output.display()))?;
@@ -349,6 +369,14 @@ pub fn run(cli: Cli) -> Result<()> {
                 rail_inclination_rad: inclination.angle_rad,
                 ..config
             };
+            let inputs: Vec<PathBuf> = crate::contact_table::profile_paths(&config)
+                .into_iter()
+                .map(|(_, p)| p.to_path_buf())
+                .collect();
+            check_outputs(
+                &inputs,
+                &outputs(&args.output, args.contact.plots.as_deref()),
+            )?;
             let req = ContactTableRequest {
                 config,
                 output: args.output.clone(),
@@ -397,8 +425,27 @@ pub struct ImportSummary {
     pub penetration_at_0_m: f64,
 }
 
+/// The table file and, when asked for, the plots folder of a command.
+fn outputs(table: &Path, plots: Option<&Path>) -> Vec<Output> {
+    let mut out = vec![Output {
+        path: table.to_path_buf(),
+        kind: OutputKind::File,
+        role: "the table file",
+    }];
+    out.extend(plots.map(|p| Output {
+        path: p.to_path_buf(),
+        kind: OutputKind::Directory,
+        role: "the plots folder",
+    }));
+    out
+}
+
 fn import_contact_table(args: &ImportContactTableArgs) -> Result<()> {
     use runtime::geometry::track::{InputFile, Provenance};
+    check_outputs(
+        std::slice::from_ref(&args.input),
+        &outputs(&args.output, None),
+    )?;
     let table = match args.format.as_str() {
         "rsgeo" => crate::rsgeo::read_rsgeo(&args.input)?,
         other => anyhow::bail!("--format {other}: only rsgeo is supported"),

@@ -274,15 +274,6 @@ impl RunArgs {
             .output
             .clone()
             .unwrap_or_else(|| PathBuf::from(format!("{stem}.h5")));
-        // Refused before the run, not after it when the results are written.
-        if let Some(dir) = output.parent().filter(|d| !d.as_os_str().is_empty()) {
-            anyhow::ensure!(
-                dir.is_dir(),
-                "the results file {} cannot be written: the directory {} does not exist",
-                output.display(),
-                dir.display()
-            );
-        }
         let plots = if self.no_plots {
             None
         } else {
@@ -292,6 +283,23 @@ impl RunArgs {
                 PathBuf::from(p)
             }))
         };
+        // Refused before the run, not after it when the results are
+        // written: an output that is an input, a directory for a file, a
+        // missing or read-only directory.
+        use runtime::io::{Output, OutputKind, check_outputs};
+        let mut inputs = scene.input_paths();
+        inputs.extend(self.scene.iter().cloned());
+        let mut outputs = vec![Output {
+            path: output.clone(),
+            kind: OutputKind::File,
+            role: "the results file",
+        }];
+        outputs.extend(plots.iter().map(|p| Output {
+            path: p.clone(),
+            kind: OutputKind::Directory,
+            role: "the plots folder",
+        }));
+        check_outputs(&inputs, &outputs)?;
         Ok(crate::report::run_files::RunRequest {
             scene,
             output,

@@ -479,6 +479,29 @@ impl LoadedScene {
         })
     }
 
+    /// Every file the scene reads (resolved): track tables or CSV inputs,
+    /// the rail profile, the vehicle file and its wheel profiles, an
+    /// imported contact table. Outputs are checked against these before a
+    /// run (`runtime::io::check_outputs`). A vehicle file that cannot be
+    /// read adds only itself (its reader reports it).
+    pub fn input_paths(&self) -> Vec<PathBuf> {
+        let s = &self.scene;
+        let t = &s.track;
+        let mut out: Vec<PathBuf> = [&t.tables, &t.centerline, &t.cant, &t.irregularities]
+            .into_iter()
+            .flatten()
+            .chain(std::iter::once(&t.rail_profile))
+            .chain(s.contact.imported_table.iter())
+            .map(|p| self.path(p))
+            .collect();
+        let vehicle = self.path(&s.vehicle.file);
+        if let Ok(v) = super::vehicle::VehicleFile::load(&vehicle) {
+            out.extend(v.wheelsets.iter().map(|w| v.profile_path(w)));
+        }
+        out.push(vehicle);
+        out
+    }
+
     /// A path of the scene, resolved against its directory.
     pub fn path(&self, p: &Path) -> PathBuf {
         if p.is_absolute() {

@@ -59,3 +59,154 @@ fn every_binary_ends_quietly_on_a_closed_pipe() {
     ]);
     closed_pipe(probe, "sim probe");
 }
+
+/// The scene of the shipped wheelset case as a string path.
+fn wheelset_scene() -> String {
+    shipped("scenes/wheelset_straight.toml")
+        .to_str()
+        .unwrap()
+        .to_string()
+}
+
+/// An output that is one of the inputs is refused before any work, however
+/// it is spelt, for every kind of input and every command; the input is
+/// left as it was, and no work was done (no track table built in the cache).
+#[test]
+fn no_output_replaces_an_input() {
+    let dir = scratch("trust_output_is_input");
+    let cache = dir.join("cache");
+    // Copies of the shipped inputs, so that a failure of the check cannot
+    // damage the repository.
+    let centerline = dir.join("centerline.csv");
+    std::fs::copy(shipped("tracks/straight_300m/centerline.csv"), &centerline).unwrap();
+    let wheel = dir.join("wheel.prw");
+    std::fs::copy(shipped("profiles/MBench_S1002_v3.prw"), &wheel).unwrap();
+    let vehicle = dir.join("vehicle.toml");
+    std::fs::copy(shipped("vehicles/ml95_like_wheelset.toml"), &vehicle).unwrap();
+    let tables = dir.join("t.h5");
+    let o = run(track_preproc().args([
+        "build",
+        "--centerline",
+        centerline.to_str().unwrap(),
+        "-o",
+        tables.to_str().unwrap(),
+    ]));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let before = |p: &std::path::Path| std::fs::read(p).unwrap();
+    let (c0, t0, v0) = (before(&centerline), before(&tables), before(&vehicle));
+
+    // track-preproc: the output is the centreline (also through `..`).
+    std::fs::create_dir_all(dir.join("sub")).unwrap();
+    for out in [centerline.clone(), dir.join("sub/../centerline.csv")] {
+        let o = run(track_preproc().args([
+            "build",
+            "--centerline",
+            centerline.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ]));
+        assert!(!o.status.success());
+        assert!(
+            stderr(&o).contains("would replace the input"),
+            "{}",
+            stderr(&o)
+        );
+    }
+    // sim run: the output is the track tables, the scene, the vehicle file.
+    let sim_run = |sets: &[String], out: &std::path::Path| {
+        let mut c = sim();
+        c.env("RAILSIM_CACHE_DIR", &cache).args([
+            "run",
+            &wheelset_scene(),
+            "--no-plots",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        for s in sets {
+            c.args(["--set", s]);
+        }
+        run(&mut c)
+    };
+    let with_tables = [
+        "track.centerline=".to_string(),
+        format!("track.tables={}", tables.display()),
+    ];
+    let with_vehicle = [format!("vehicle.file={}", vehicle.display())];
+    for (sets, out) in [
+        (&with_tables[..], tables.clone()),
+        (&with_vehicle[..], vehicle.clone()),
+        (&[][..], shipped("scenes/wheelset_straight.toml")),
+    ] {
+        let o = sim_run(sets, &out);
+        assert!(!o.status.success(), "{}", out.display());
+        assert!(
+            stderr(&o).contains("would replace the input"),
+            "{}",
+            stderr(&o)
+        );
+    }
+    // Nothing was replaced, and nothing was built.
+    assert_eq!(before(&centerline), c0);
+    assert_eq!(before(&tables), t0);
+    assert_eq!(before(&vehicle), v0);
+    assert!(
+        !cache.exists() || files_in(&cache).iter().all(|f| !f.starts_with("track-")),
+        "the refused runs did work: {:?}",
+        files_in(&cache)
+    );
+}
+
+/// Output locations that cannot be written are found before the work: a
+/// directory given as the results file, a missing directory, a plots
+/// folder that is a file.
+#[test]
+fn output_locations_are_checked_before_the_work() {
+    let dir = scratch("trust_output_location");
+    let cache = dir.join("cache");
+    let plain = dir.join("plain");
+    std::fs::write(&plain, b"x").unwrap();
+    let (missing, results) = (dir.join("missing/run.h5"), dir.join("run.h5"));
+    let cases: [(&[&str], &str); 3] = [
+        (
+            &["-o", dir.to_str().unwrap(), "--no-plots"],
+            "is a directory",
+        ),
+        (
+            &["-o", missing.to_str().unwrap(), "--no-plots"],
+            "does not exist",
+        ),
+        (
+            &[
+                "-o",
+                results.to_str().unwrap(),
+                "--plots",
+                plain.to_str().unwrap(),
+            ],
+            "is a file",
+        ),
+    ];
+    for (args, what) in cases {
+        let o = run(sim()
+            .env("RAILSIM_CACHE_DIR", &cache)
+            .args(["run", &wheelset_scene()])
+            .args(args));
+        assert!(!o.status.success(), "{args:?}");
+        assert!(stderr(&o).contains(what), "{args:?}: {}", stderr(&o));
+    }
+    assert!(
+        !cache.exists() || files_in(&cache).is_empty(),
+        "work was done"
+    );
+    // track-preproc: the table file is a directory.
+    let o = run(track_preproc().args([
+        "build",
+        "--centerline",
+        shipped("tracks/straight_300m/centerline.csv")
+            .to_str()
+            .unwrap(),
+        "-o",
+        dir.to_str().unwrap(),
+    ]));
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("is a directory"), "{}", stderr(&o));
+}
