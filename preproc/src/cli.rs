@@ -518,3 +518,25 @@ pub fn exit_quietly_on_closed_pipe() {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
 }
+
+/// Installs the SIGINT/SIGTERM handler of a binary (Ctrl-C, `kill`): the
+/// first signal sets the returned flag, so that long work stops cleanly at
+/// its next step and writes what it has; a second signal (or the first,
+/// for work that cannot stop cleanly: `stop_at_once`) removes the output
+/// temporaries being written (`runtime::io::remove_temporaries_in_flight`)
+/// and exits with 130 — no incomplete file is left behind.
+pub fn stop_on_signal(stop_at_once: bool) -> std::sync::Arc<std::sync::atomic::AtomicBool> {
+    use std::sync::atomic::Ordering;
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let flag = stop.clone();
+    // Installing fails only in a host that owns the signals; the default
+    // action then applies, and the next write removes the stale temporary.
+    let _ = ctrlc::set_handler(move || {
+        if stop_at_once || flag.swap(true, Ordering::Relaxed) {
+            let n = runtime::io::remove_temporaries_in_flight();
+            eprintln!("interrupted: {n} incomplete output file(s) removed");
+            std::process::exit(130);
+        }
+    });
+    stop
+}

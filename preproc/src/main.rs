@@ -7,6 +7,9 @@ use clap::Parser;
 fn main() -> ExitCode {
     preproc::cli::exit_quietly_on_closed_pipe();
     let cli = preproc::cli::Cli::parse();
+    // A build cannot stop half-way with a usable table: the first signal
+    // removes the temporary being written and exits with 130.
+    let _ = preproc::cli::stop_on_signal(true);
     match preproc::cli::run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

@@ -68,8 +68,6 @@ pub fn run(cli: Cli) -> Result<()> {
             out,
             json,
         } => {
-            use std::sync::Arc;
-            use std::sync::atomic::{AtomicBool, Ordering};
             let scene = crate::config::scene::LoadedScene::load(&scene, &set)?;
             let settings = crate::studies::bifurcation::BifurcationSettings {
                 min_m_s: min,
@@ -80,11 +78,7 @@ pub fn run(cli: Cli) -> Result<()> {
                     .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
                 out_dir: out,
             };
-            let stop = Arc::new(AtomicBool::new(false));
-            {
-                let stop = stop.clone();
-                let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
-            }
+            let stop = preproc::cli::stop_on_signal(false);
             let mut b = crate::studies::bifurcation::bifurcation(&scene, &settings, stop)?;
             b.write(&settings.out_dir)?;
             if json {
@@ -164,9 +158,6 @@ pub fn run(cli: Cli) -> Result<()> {
 }
 
 fn run_command(args: &RunArgs) -> Result<()> {
-    use std::sync::Arc;
-    use std::sync::atomic::{AtomicBool, Ordering};
-
     let req = args.to_request()?;
     let plan = crate::session::plan::plan(&req.scene).context("planning the run")?;
     if args.plan_only {
@@ -180,13 +171,7 @@ fn run_command(args: &RunArgs) -> Result<()> {
     if !args.json {
         print!("{}", plan.to_text());
     }
-    let stop = Arc::new(AtomicBool::new(false));
-    {
-        let stop = stop.clone();
-        // A second Ctrl-C while stopping is left to the default handler
-        // only if installing fails (e.g. in a host that owns the signal).
-        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
-    }
+    let stop = preproc::cli::stop_on_signal(false);
     let bar = if args.quiet || args.json {
         indicatif::ProgressBar::hidden()
     } else {
@@ -228,8 +213,6 @@ fn run_command(args: &RunArgs) -> Result<()> {
 
 fn critical_speed_command(args: &CriticalSpeedArgs) -> Result<()> {
     use crate::studies::critical_speed::{CriticalSpeedSettings, study};
-    use std::sync::Arc;
-    use std::sync::atomic::{AtomicBool, Ordering};
 
     let scene = crate::config::scene::LoadedScene::load(&args.scene, &args.set)?;
     let laws = if args.creep.is_empty() {
@@ -250,11 +233,7 @@ fn critical_speed_command(args: &CriticalSpeedArgs) -> Result<()> {
         skip_s: args.skip_s,
         ramp_deceleration_m_s2: args.ramp_deceleration,
     };
-    let stop = Arc::new(AtomicBool::new(false));
-    {
-        let stop = stop.clone();
-        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
-    }
+    let stop = preproc::cli::stop_on_signal(false);
     let quiet = args.json;
     let mut report = study(&scene, &settings, stop, &mut |m| {
         if !quiet {

@@ -2,8 +2,6 @@
 //! write and print its report).
 
 use std::path::PathBuf;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
 
 use anyhow::{Context, Result};
 
@@ -72,11 +70,7 @@ pub fn command(args: &TradeoffArgs) -> Result<()> {
             .jobs
             .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
     };
-    let stop = Arc::new(AtomicBool::new(false));
-    {
-        let stop = stop.clone();
-        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
-    }
+    let stop = preproc::cli::stop_on_signal(false);
     let quiet = args.json;
     let mut progress = |line: &str| {
         if !quiet {

@@ -210,3 +210,66 @@ fn output_locations_are_checked_before_the_work() {
     assert!(!o.status.success());
     assert!(stderr(&o).contains("is a directory"), "{}", stderr(&o));
 }
+
+/// kill -9 mid-write leaves a temporary (nothing can run then): the next
+/// write of the same output removes the temporaries of writers that are no
+/// longer running, and keeps the others'.
+#[test]
+fn stale_temporaries_are_removed_by_the_next_write() {
+    let dir = scratch("trust_stale_temporaries");
+    let out = dir.join("t.h5");
+    let dead = dir.join(".t.h5.tmp-4294967295-0");
+    let other = dir.join(".u.h5.tmp-4294967295-0");
+    std::fs::write(&dead, vec![0u8; 1 << 20]).unwrap();
+    std::fs::write(&other, b"another output's").unwrap();
+    let o = run(track_preproc().args([
+        "build",
+        "--centerline",
+        shipped("tracks/straight_300m/centerline.csv")
+            .to_str()
+            .unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]));
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!dead.exists(), "{:?}", files_in(&dir));
+    assert!(other.exists());
+    assert!(out.exists());
+}
+
+/// SIGTERM (`kill`) is Ctrl-C's twin: `sim run` stops at the next step,
+/// writes the results so far marked interrupted and exits with 130, leaving
+/// no temporary.
+#[test]
+fn sigterm_stops_a_run_cleanly() {
+    let dir = scratch("trust_sigterm");
+    let out = dir.join("run.h5");
+    let child = sim()
+        .env("RAILSIM_CACHE_DIR", dir.join("cache"))
+        .args([
+            "run",
+            &wheelset_scene(),
+            "-o",
+            out.to_str().unwrap(),
+            "--set",
+            "initial.speed_m_s=2",
+            "--no-plots",
+            "--quiet",
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("sim starts");
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let k = run(Command::new("kill").args(["-TERM", &child.id().to_string()]));
+    assert!(k.status.success());
+    let o = child.wait_with_output().expect("sim ends");
+    assert_eq!(o.status.code(), Some(130), "{}", stderr(&o));
+    let r = runtime::io::schema::read_results(&out).expect("the results so far");
+    assert_eq!(r.attribute("status"), Some("interrupted"));
+    assert!(
+        files_in(&dir).iter().all(|f| !f.contains(".tmp-")),
+        "{:?}",
+        files_in(&dir)
+    );
+}

@@ -11,7 +11,13 @@
 //!   destination at once (threads, processes) never share a temporary;
 //! * the temporary is removed when the write fails, and when an
 //!   uncommitted [`AtomicFile`] is dropped (an error returned with `?`, a
-//!   panic unwinding).
+//!   panic unwinding);
+//! * a process killed mid-write (kill -9, a power cut) leaves its
+//!   temporary, but the next write of the same destination removes every
+//!   temporary of it whose process is no longer running
+//!   ([`remove_stale_temporaries`]);
+//! * the temporaries being written are listed ([`remove_temporaries_in_flight`]),
+//!   so that a binary's SIGINT/SIGTERM handler removes them before it exits.
 //!
 //! Two ways to use it:
 //!
@@ -68,12 +74,14 @@ impl AtomicFile {
 
     fn with_suffix(dest: &Path, suffix: &str) -> Self {
         static BEGUN: AtomicU64 = AtomicU64::new(0);
+        remove_stale_temporaries(dest);
         let name = dest
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_else(|| "output".into());
         let n = BEGUN.fetch_add(1, Ordering::Relaxed);
         let temp = dest.with_file_name(format!(".{name}.tmp-{}-{n}{suffix}", std::process::id()));
+        in_flight().push(temp.clone());
         Self {
             temp,
             dest: dest.to_path_buf(),
@@ -104,7 +112,73 @@ impl Drop for AtomicFile {
         if !self.committed {
             let _ = std::fs::remove_file(&self.temp);
         }
+        in_flight().retain(|t| *t != self.temp);
     }
+}
+
+/// The temporaries this process is writing.
+fn in_flight() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
+    static IN_FLIGHT: std::sync::Mutex<Vec<PathBuf>> = std::sync::Mutex::new(Vec::new());
+    // A poisoned list is still a list of paths.
+    IN_FLIGHT.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Removes the temporaries this process is writing: for a binary's
+/// SIGINT/SIGTERM handler, just before it exits (the outputs being written
+/// are then incomplete and are not committed). Returns how many it removed.
+pub fn remove_temporaries_in_flight() -> usize {
+    let mut list = in_flight();
+    let n = list
+        .iter()
+        .filter(|t| std::fs::remove_file(t).is_ok())
+        .count();
+    list.clear();
+    n
+}
+
+/// Whether process `pid` is running (Linux: `/proc/<pid>`; elsewhere it is
+/// assumed running, so that nothing of a live writer is removed).
+fn process_running(pid: u32) -> bool {
+    let proc_dir = Path::new("/proc");
+    if !proc_dir.join("self").exists() {
+        return true;
+    }
+    proc_dir.join(pid.to_string()).exists()
+}
+
+/// Removes the temporaries of `dest` (`.<name>.tmp-<pid>-<n>[.<ext>]`)
+/// left by processes that are no longer running (killed mid-write).
+/// Returns how many it removed; errors are ignored (another process may
+/// be removing them too).
+pub fn remove_stale_temporaries(dest: &Path) -> usize {
+    let Some(name) = dest.file_name().map(|n| n.to_string_lossy().into_owned()) else {
+        return 0;
+    };
+    let dir = match dest.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let prefix = format!(".{name}.tmp-");
+    let Ok(entries) = std::fs::read_dir(&dir) else {
+        return 0;
+    };
+    let mut removed = 0;
+    for e in entries.flatten() {
+        let file = e.file_name().to_string_lossy().into_owned();
+        let Some(rest) = file.strip_prefix(&prefix) else {
+            continue;
+        };
+        let Some(pid) = rest.split('-').next().and_then(|p| p.parse::<u32>().ok()) else {
+            continue;
+        };
+        if pid != std::process::id()
+            && !process_running(pid)
+            && std::fs::remove_file(e.path()).is_ok()
+        {
+            removed += 1;
+        }
+    }
+    removed
 }
 
 /// Why [`write_atomically`] failed; nothing was written at the
@@ -222,5 +296,47 @@ mod tests {
         assert!(name.starts_with(".chart.png.tmp-"), "{name}");
         assert_eq!(f.temp_path().extension().unwrap(), "png");
         assert_eq!(f.temp_path().parent(), Some(Path::new("/plots")));
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn stale_temporaries_of_dead_processes_are_removed_by_the_next_write() {
+        let d = std::env::temp_dir().join(format!("atomic-stale-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        let dest = d.join("run.h5");
+        // A dead writer's (pid beyond any running one), a live writer's
+        // (this process's parent), and another file's temporary.
+        let dead = d.join(".run.h5.tmp-4294967295-0");
+        let live = d.join(format!(
+            ".run.h5.tmp-{}-3",
+            std::os::unix::process::parent_id()
+        ));
+        let other = d.join(".other.h5.tmp-4294967295-0");
+        for p in [&dead, &live, &other] {
+            std::fs::write(p, b"partial").unwrap();
+        }
+        write_atomically(&dest, |tmp| std::fs::write(tmp, b"done")).unwrap();
+        assert!(!dead.exists(), "the dead writer's temporary is removed");
+        assert!(live.exists(), "a running writer's temporary is kept");
+        assert!(other.exists(), "another destination's temporary is kept");
+        assert_eq!(std::fs::read(&dest).unwrap(), b"done");
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn temporaries_in_flight_are_listed_for_the_signal_handler() {
+        let d = std::env::temp_dir().join(format!("atomic-flight-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        let f = AtomicFile::new(&d.join("big.h5"));
+        std::fs::write(f.temp_path(), b"half").unwrap();
+        assert!(in_flight().contains(&f.temp_path().to_path_buf()));
+        let temp = f.temp_path().to_path_buf();
+        assert!(remove_temporaries_in_flight() >= 1);
+        assert!(!temp.exists());
+        drop(f);
+        assert!(!in_flight().contains(&temp));
+        std::fs::remove_dir_all(&d).unwrap();
     }
 }

@@ -13,5 +13,6 @@ pub mod schema;
 pub use outputs::{Output, OutputError, OutputKind, check_outputs};
 
 pub use atomic::{
-    AtomicFile, AtomicWriteError, write_atomically, write_atomically_keeping_extension,
+    AtomicFile, AtomicWriteError, remove_stale_temporaries, remove_temporaries_in_flight,
+    write_atomically, write_atomically_keeping_extension,
 };
