@@ -567,6 +567,19 @@ fn scene_key(setting: &str) -> &'static str {
     }
 }
 
+/// Smallest integrator step a scene may ask for (s): below it a run is a
+/// unit slip (1e-4 written as 1e-10), not a finer computation.
+pub const MIN_STEP_S: f64 = 1e-7;
+
+/// Largest number of output samples of a run: the results are held in
+/// memory until written (about [`BYTES_PER_WHEELSET_SAMPLE`] bytes per
+/// wheelset and sample: 75 series of f64).
+pub const MAX_OUTPUT_SAMPLES: f64 = 5e6;
+
+/// Memory of one output sample of one wheelset (bytes): 5 wheelset series,
+/// 2 × 5 wheel series and 2 × 2 × 15 zone series of f64 (`runtime::results`).
+pub const BYTES_PER_WHEELSET_SAMPLE: f64 = 75.0 * 8.0;
+
 impl Scene {
     /// Checks every rule, naming the entry.
     pub fn validate(&self) -> Result<()> {
@@ -722,6 +735,24 @@ impl Scene {
             "[run] output_interval_s = {} must be finite and > 0",
             r.output_interval_s
         );
+        // The results are held in memory until written: bound their size
+        // before the run, not when the machine runs out of memory.
+        if r.integrator == IntegratorKind::Rk4 {
+            ensure!(
+                r.output_interval_s >= r.step_s,
+                "[run] output_interval_s = {:e} s is below the RK4 step step_s = {:e} s: samples between the steps would repeat them (check the unit)",
+                r.output_interval_s,
+                r.step_s
+            );
+        }
+        let samples = self.duration_s() / r.output_interval_s;
+        ensure!(
+            samples <= MAX_OUTPUT_SAMPLES,
+            "[run] output_interval_s = {:e} s gives {samples:.3e} samples over the run's {:.1} s, more than {MAX_OUTPUT_SAMPLES:e} (about {} MB per wheelset in memory): raise it (check the unit)",
+            r.output_interval_s,
+            self.duration_s(),
+            (MAX_OUTPUT_SAMPLES * BYTES_PER_WHEELSET_SAMPLE / 1e6).round()
+        );
         if let Some(tol) = r.lateral_tolerance_m {
             ensure!(
                 tol.is_finite() && tol > 0.0,
@@ -807,6 +838,11 @@ impl Scene {
                     "[run] step_s = {} must lie in (0, 0.01] s",
                     r.step_s
                 );
+                ensure!(
+                    r.step_s >= MIN_STEP_S,
+                    "[run] step_s = {:e} s is below {MIN_STEP_S:e} s (check the unit: seconds; the stiffest contact modes need about 1e-4 s)",
+                    r.step_s
+                );
                 Method::Rk4(Rk4 { step_s: r.step_s })
             }
             IntegratorKind::Dopri5 => {
@@ -819,6 +855,11 @@ impl Scene {
                 ensure!(
                     r.max_step_s > 0.0 && r.max_step_s.is_finite(),
                     "[run] max_step_s = {} must be finite and > 0",
+                    r.max_step_s
+                );
+                ensure!(
+                    r.max_step_s >= MIN_STEP_S,
+                    "[run] max_step_s = {:e} s is below {MIN_STEP_S:e} s (check the unit: seconds)",
                     r.max_step_s
                 );
                 Method::Dopri5(Dopri5 {

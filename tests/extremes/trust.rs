@@ -273,3 +273,52 @@ fn sigterm_stops_a_run_cleanly() {
         files_in(&dir)
     );
 }
+
+/// What would exhaust the memory or the time (a unit slip) is refused
+/// before the run, naming the entry: samples finer than the RK4 step,
+/// more samples than memory holds, a step of 1e-300 s.
+#[test]
+fn unit_slips_in_the_run_section_are_refused_before_the_run() {
+    let dir = scratch("trust_run_section");
+    for (set, expected) in [
+        (
+            "run.output_interval_s=1e-9",
+            "[run] output_interval_s = 1e-9 s is below the RK4 step",
+        ),
+        (
+            "run.step_s=1e-300",
+            "[run] step_s = 1e-300 s is below 1e-7 s (check the unit",
+        ),
+    ] {
+        let o = run(sim()
+            .env("RAILSIM_CACHE_DIR", dir.join("cache"))
+            .args(["run", &wheelset_scene(), "--no-plots", "-o"])
+            .arg(dir.join("run.h5"))
+            .args(["--set", set]));
+        assert!(!o.status.success(), "{set}");
+        let err = stderr(&o);
+        assert!(
+            err.contains(expected) && err.contains("check the unit"),
+            "{set}: {err}"
+        );
+        assert!(!dir.join("run.h5").exists());
+    }
+    // DOPRI5's dense output may sample finer than its steps, but not
+    // beyond what memory holds: 28 s at 1 µs is 2.8e7 samples.
+    let o = run(sim()
+        .env("RAILSIM_CACHE_DIR", dir.join("cache"))
+        .args(["run", &wheelset_scene(), "--no-plots", "-o"])
+        .arg(dir.join("run.h5"))
+        .args([
+            "--set",
+            "run.integrator=dopri5",
+            "--set",
+            "run.output_interval_s=1e-6",
+        ]));
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains("samples over the run"),
+        "{}",
+        stderr(&o)
+    );
+}
