@@ -79,8 +79,8 @@ pub trait ContactSource: std::fmt::Debug {
     /// track distance `s_m` (m), lateral shift `y_m` (m, + left) and
     /// `yaw_rad` (rad, + nose left), with the run's force settings
     /// (material of the Hertz contacts). By default on the wheelset's
-    /// profiles with elastic support ([`settle_on_profiles`]); a source
-    /// with its own contact geometry (imported) settles on that.
+    /// profiles with elastic support (`crate::contact::quasi_static`); a
+    /// source with its own contact geometry (imported) settles on that.
     fn settle(
         &mut self,
         ctx: ContactContext<'_>,
