@@ -164,20 +164,31 @@ fn run_plots_are_written_and_show_the_data() {
     assert_ne!(chart.series[0].colour, chart.series[1].colour);
     assert_panels_drawn(&[chart]);
 
-    // Y sums tread and flange; out of flange contact the flange counts 0.
+    // Y sums tread and flange, + towards the track centre (−n for the left
+    // wheel), as the results file's y_n and the Y/Q summary; out of flange
+    // contact the flange counts 0.
     let forces = contact_force_panels(&r);
     assert_eq!(forces.len(), 6);
     let left = &r.wheelsets[0].wheels[0];
     let k = (0..r.len())
         .find(|&k| left.flange_contact[k] == 1)
         .expect("the synthetic run touches the flange");
-    let expected_kn = 1e-3 * (left.zones[0].lateral_force_n[k] + left.zones[1].lateral_force_n[k]);
+    let expected_kn = -1e-3 * (left.zones[0].lateral_force_n[k] + left.zones[1].lateral_force_n[k]);
     assert!((forces[0].series[0].points[k].1 - expected_kn).abs() < 1e-9);
     let free = (0..r.len()).find(|&k| left.flange_contact[k] == 0).unwrap();
     assert_eq!(
         forces[0].series[0].points[free].1,
-        1e-3 * left.zones[0].lateral_force_n[free]
+        -1e-3 * left.zones[0].lateral_force_n[free]
     );
+    assert!(forces[0].y_label.contains("+ towards the track centre"));
+    // The right wheel's Y is + towards the centre too: +n.
+    let right = &r.wheelsets[0].wheels[1];
+    let kr = (0..r.len())
+        .find(|&k| right.flange_contact[k] == 1)
+        .expect("the right flange touches too");
+    let expected_right_kn =
+        1e-3 * (right.zones[0].lateral_force_n[kr] + right.zones[1].lateral_force_n[kr]);
+    assert!((forces[0].series[1].points[kr].1 - expected_right_kn).abs() < 1e-9);
     assert_eq!(forces[2].series[0].points[free].1, 0.0, "no flange force");
     assert!(forces[2].series[0].points[k].1 > 0.0);
     // Left and right wheels keep their colours in every panel.

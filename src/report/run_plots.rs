@@ -4,9 +4,12 @@
 //! - `lateral_displacement.png`: lateral displacement (mm, + left) of every
 //!   wheelset against the distance travelled (m) (paper Figs. 15, 17, 18);
 //! - `contact_forces.png`: one row per wheelset, three panels: lateral
-//!   contact force Y (kN, + left) of the left and right wheels (tread and
-//!   flange zones summed; paper Figs. 19–20), vertical contact force Q (kN,
-//!   + up) and the flange normal force (kN, 0 out of flange contact);
+//!   contact force Y (kN, + towards the track centre on both wheels: the
+//!   one convention of the results file's `y_n` and of the Y/Q summary,
+//!   `docs/reference/01-units-frames.md`) of the left and right wheels
+//!   (tread and flange zones summed; paper Figs. 19–20), vertical contact
+//!   force Q (kN, + up) and the flange normal force (kN, 0 out of flange
+//!   contact);
 //! - `creepages.png`: one row per wheelset, panels ξ, η (dimensionless) and
 //!   φ (1/m) of the tread zones of the left and right wheels.
 //!
@@ -102,7 +105,7 @@ pub fn contact_force_panels(results: &RunResults) -> Vec<LineChart> {
         let mut y = LineChart::new(
             format!("{name}: lateral contact force Y"),
             DISTANCE_LABEL,
-            "Y [kN] (+ left)",
+            "Y [kN] (+ towards the track centre)",
         );
         let mut q = LineChart::new(
             format!("{name}: vertical contact force Q"),
@@ -119,8 +122,8 @@ pub fn contact_force_panels(results: &RunResults) -> Vec<LineChart> {
                 Series::line(WHEEL_LABELS[w], against_distance(ws, &values, 1e-3))
                     .with_colour(WHEEL_COLOURS[w])
             };
-            y.series
-                .push(series(zone_sum(&wheel.zones, |z| &z.lateral_force_n)));
+            // The wheel's Y as the results file records it (`y_n`).
+            y.series.push(series(wheel.y_n.clone()));
             q.series
                 .push(series(zone_sum(&wheel.zones, |z| &z.vertical_force_n)));
             let f = &wheel.zones[FLANGE];
