@@ -131,6 +131,94 @@ pub struct TrackTables {
 }
 
 impl TrackTables {
+    /// Checks that the tables describe one track (`docs/reference/04-table-files.md`):
+    /// at sampled rows, every frame is orthonormal and right-handed
+    /// (b = t × n), and each rail lies beside the centreline at about half
+    /// the rail spacing along the centreline's lateral vector (left rail
+    /// on its + side). Catches a table whose columns were relabelled or
+    /// permuted (positions y ↔ z, a swapped vector) and tables of two
+    /// different tracks, which would otherwise give wrong positions
+    /// silently. Tolerances: 1e-3 on the frames; the rail offset within
+    /// 25–150 % of half the spacing and within about 25° of the lateral
+    /// vector (cant and irregularities stay far inside both).
+    pub fn check_consistency(&self) -> Result<(), TrackError> {
+        fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+            a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+        }
+        fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+            [
+                a[1] * b[2] - a[2] * b[1],
+                a[2] * b[0] - a[0] * b[2],
+                a[0] * b[1] - a[1] * b[0],
+            ]
+        }
+        fn frame(
+            table: &'static str,
+            row: usize,
+            t: [f64; 3],
+            n: [f64; 3],
+            b: [f64; 3],
+        ) -> Result<(), TrackError> {
+            let txn = cross(t, n);
+            let off = [
+                (dot(t, t) - 1.0).abs(),
+                (dot(n, n) - 1.0).abs(),
+                dot(t, n).abs(),
+                (0..3).map(|i| (b[i] - txn[i]).abs()).fold(0.0, f64::max),
+            ];
+            if off.iter().any(|e| e.is_nan() || *e >= 1e-3) {
+                return Err(TrackError::InvalidTable {
+                    table,
+                    row,
+                    rule: "the frame t, n, b is not orthonormal with b = t × n (permuted or relabelled columns?)".into(),
+                });
+            }
+            Ok(())
+        }
+        let rows = self.centerline.rows();
+        let samples = 64.min(rows.len());
+        let half_spacing = 0.5 * self.meta.rail_spacing_m;
+        for j in 0..samples {
+            let k = j * (rows.len() - 1) / (samples - 1).max(1);
+            let c = &rows[k];
+            frame("centerline", k, c.t, c.n, c.b)?;
+            for (rail, l_m, sign) in [
+                (&self.left, c.l_left_m, 1.0),
+                (&self.right, c.l_right_m, -1.0),
+            ] {
+                let (l0, _) = rail.range_m();
+                let r_rows = rail.rows();
+                let i =
+                    (((l_m - l0) / rail.step_m()).round().max(0.0) as usize).min(r_rows.len() - 1);
+                let r = &r_rows[i];
+                frame(rail.side().rail_name(), i, r.t, r.n, r.b)?;
+                let d = [
+                    r.position[0] - c.position[0],
+                    r.position[1] - c.position[1],
+                    r.position[2] - c.position[2],
+                ];
+                let dist = dot(d, d).sqrt();
+                let lateral = sign * dot(d, c.n);
+                let ok = half_spacing > 0.0
+                    && (0.25 * half_spacing..=1.5 * half_spacing).contains(&dist)
+                    && lateral >= 0.9 * dist;
+                if !ok {
+                    return Err(TrackError::InvalidTable {
+                        table: rail.side().rail_name(),
+                        row: i,
+                        rule: format!(
+                            "the rail is {dist:.3} m from the centreline at s = {:.2} m, {:.3} m of it along the lateral vector (expected about {half_spacing:.3} m, on the {} side): the tables do not describe one track (permuted or relabelled columns?)",
+                            c.s_m,
+                            lateral,
+                            if sign > 0.0 { "left" } else { "right" }
+                        ),
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// The database of one rail.
     pub fn rail(&self, side: Side) -> &RailTable {
         match side {

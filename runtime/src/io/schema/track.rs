@@ -245,12 +245,14 @@ pub fn read_track(path: &Path) -> Result<TrackTables, SchemaError> {
     }
     let right = rails.pop().expect("two rails");
     let left = rails.pop().expect("two rails");
-    Ok(TrackTables {
+    let tables = TrackTables {
         meta,
         centerline,
         left,
         right,
-    })
+    };
+    tables.check_consistency().map_err(table_err)?;
+    Ok(tables)
 }
 
 /// Read `/input` (command line and input files) of a table file.
