@@ -943,7 +943,7 @@ mod tests {
         assert!((s.scene.duration_s() - 5.0).abs() < 1e-12);
         let s = scene(&["run.axle_torque_nm=-2000", "run.axle_brake_torque_nm=500"]).unwrap();
         assert_eq!(s.scene.run.axle_torque_nm, -2000.0);
-        let cases: [(&[&str], &str); 8] = [
+        let cases: [(&[&str], &str); 9] = [
             (
                 &["initial.acceleration_m_s2=1", "initial.deceleration_m_s2=1"],
                 "not both",
@@ -973,6 +973,10 @@ mod tests {
             (
                 &["initial.deceleration_m_s2=-1"],
                 "[initial] deceleration_m_s2 = -1",
+            ),
+            (
+                &["initial.speed_m_s=-1"],
+                "[initial] speed_m_s = -1 must be finite and >= 0",
             ),
         ];
         for (o, what) in cases {

@@ -1,9 +1,25 @@
 //! Trust (issue 12): nothing lost, nothing silently wrong. Each test checks
 //! one class of fault for every binary it concerns.
 
+use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
 use super::common::*;
+
+/// `track-preproc build --centerline CENTERLINE -o OUT`.
+fn build(centerline: &Path, out: &Path) -> Command {
+    let mut c = track_preproc();
+    c.args(["build", "--centerline"])
+        .arg(centerline)
+        .arg("-o")
+        .arg(out);
+    c
+}
+
+/// The shipped 300 m straight's centreline.
+fn straight_centerline() -> PathBuf {
+    shipped("tracks/straight_300m/centerline.csv")
+}
 
 /// Runs `cmd` with its standard output closed before it prints: it must
 /// end quietly (no panic, no "Broken pipe" message), as Unix tools do.
@@ -34,22 +50,12 @@ fn every_binary_ends_quietly_on_a_closed_pipe() {
         shipped("profiles/MBench_UIC60_v3.prr").to_str().unwrap(),
     ]);
     closed_pipe(contact, "sim contact");
-    let build = |out: &str| {
-        let mut c = track_preproc();
-        c.args([
-            "build",
-            "--centerline",
-            shipped("tracks/straight_300m/centerline.csv")
-                .to_str()
-                .unwrap(),
-            "-o",
-            dir.join(out).to_str().unwrap(),
-        ]);
-        c
-    };
-    let o = run(&mut build("straight.h5"));
+    let o = run(&mut build(&straight_centerline(), &dir.join("straight.h5")));
     assert!(o.status.success(), "{}", stderr(&o));
-    closed_pipe(build("again.h5"), "track-preproc build");
+    closed_pipe(
+        build(&straight_centerline(), &dir.join("again.h5")),
+        "track-preproc build",
+    );
     let mut probe = sim();
     probe.args([
         "probe",
@@ -84,13 +90,7 @@ fn no_output_replaces_an_input() {
     let vehicle = dir.join("vehicle.toml");
     std::fs::copy(shipped("vehicles/ml95_like_wheelset.toml"), &vehicle).unwrap();
     let tables = dir.join("t.h5");
-    let o = run(track_preproc().args([
-        "build",
-        "--centerline",
-        centerline.to_str().unwrap(),
-        "-o",
-        tables.to_str().unwrap(),
-    ]));
+    let o = run(&mut build(&centerline, &tables));
     assert!(o.status.success(), "{}", stderr(&o));
     let before = |p: &std::path::Path| std::fs::read(p).unwrap();
     let (c0, t0, v0) = (before(&centerline), before(&tables), before(&vehicle));
@@ -98,13 +98,7 @@ fn no_output_replaces_an_input() {
     // track-preproc: the output is the centreline (also through `..`).
     std::fs::create_dir_all(dir.join("sub")).unwrap();
     for out in [centerline.clone(), dir.join("sub/../centerline.csv")] {
-        let o = run(track_preproc().args([
-            "build",
-            "--centerline",
-            centerline.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-        ]));
+        let o = run(&mut build(&centerline, &out));
         assert!(!o.status.success());
         assert!(
             stderr(&o).contains("would replace the input"),
@@ -198,15 +192,7 @@ fn output_locations_are_checked_before_the_work() {
         "work was done"
     );
     // track-preproc: the table file is a directory.
-    let o = run(track_preproc().args([
-        "build",
-        "--centerline",
-        shipped("tracks/straight_300m/centerline.csv")
-            .to_str()
-            .unwrap(),
-        "-o",
-        dir.to_str().unwrap(),
-    ]));
+    let o = run(&mut build(&straight_centerline(), &dir));
     assert!(!o.status.success());
     assert!(stderr(&o).contains("is a directory"), "{}", stderr(&o));
 }
@@ -222,15 +208,7 @@ fn stale_temporaries_are_removed_by_the_next_write() {
     let other = dir.join(".u.h5.tmp-4294967295-0");
     std::fs::write(&dead, vec![0u8; 1 << 20]).unwrap();
     std::fs::write(&other, b"another output's").unwrap();
-    let o = run(track_preproc().args([
-        "build",
-        "--centerline",
-        shipped("tracks/straight_300m/centerline.csv")
-            .to_str()
-            .unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-    ]));
+    let o = run(&mut build(&straight_centerline(), &out));
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(!dead.exists(), "{:?}", files_in(&dir));
     assert!(other.exists());

@@ -102,14 +102,18 @@ pub trait ContactSource: std::fmt::Debug {
 
     /// The force of candidate `c` of the last [`Self::contacts`] for the
     /// wheelset's `motion`, from the candidate's hysteresis `memory`;
-    /// `Ok(None)` out of contact.
+    /// `Ok(None)` out of contact. By default the per-contact pipeline on
+    /// the candidate's own geometry ([`evaluate_contact`]); a source that
+    /// brings its own contact data (imported) computes it from that.
     fn force(
         &self,
         forces: &ContactForceSettings,
         c: &Candidate,
         memory: &ContactMemory,
         motion: &WheelsetMotion,
-    ) -> Result<Option<ContactForce>, ContactForceError>;
+    ) -> Result<Option<ContactForce>, ContactForceError> {
+        evaluate_contact(forces, c, memory, motion)
+    }
 }
 
 /// Settling on the wheelset's profiles, elastic support under its static
@@ -144,16 +148,6 @@ impl ContactSource for OnlineContact {
         _relative: &TrackRelative,
     ) -> Result<WheelsetContacts, ContactError> {
         ctx.solver.solve(&ctx.wheelset.contact, ctx.track, pose)
-    }
-
-    fn force(
-        &self,
-        forces: &ContactForceSettings,
-        c: &Candidate,
-        memory: &ContactMemory,
-        motion: &WheelsetMotion,
-    ) -> Result<Option<ContactForce>, ContactForceError> {
-        evaluate_contact(forces, c, memory, motion)
     }
 }
 

@@ -25,14 +25,10 @@ use super::contact_source::{ContactContext, ContactSource};
 use super::track_motion::TrackRelative;
 use crate::contact::table::{ContactTable, ContactTableError};
 use crate::contact::{
-    Candidate, ContactError, SurfaceParams, WheelsetContactModel, WheelsetContacts, WheelsetPose,
+    ContactError, SurfaceParams, WheelsetContactModel, WheelsetContacts, WheelsetPose,
 };
-use crate::forces::normal::ContactMemory;
 use crate::geometry::profile::Zone;
 use crate::geometry::track::{Side, TrackError, TrackTables};
-use crate::multibody::contact_force::{
-    ContactForce, ContactForceError, ContactForceSettings, WheelsetMotion, evaluate_contact,
-};
 
 /// Tolerance when matching a table point to a piece of the wheel (m).
 const PIECE_TOL_M: f64 = 1e-4;
@@ -66,16 +62,6 @@ impl ContactSource for TableContact {
             relative,
             &self.table,
         )
-    }
-
-    fn force(
-        &self,
-        forces: &ContactForceSettings,
-        c: &Candidate,
-        memory: &ContactMemory,
-        motion: &WheelsetMotion,
-    ) -> Result<Option<ContactForce>, ContactForceError> {
-        evaluate_contact(forces, c, memory, motion)
     }
 }
 
