@@ -249,7 +249,8 @@ fn results_h5dump_shows_the_layout() {
         "DATASET \"y_over_q\"",
         "ATTRIBUTE \"units\"",
         "ATTRIBUTE \"description\"",
-        "DATASPACE  SIMPLE { ( 20 ) / ( 20 ) }",
+        // Extendable: 20 samples now, no fixed maximum.
+        "DATASPACE  SIMPLE { ( 20 ) / ( H5S_UNLIMITED ) }",
         "H5T_STD_U8LE",
         "H5T_IEEE_F64LE",
     ] {
@@ -477,4 +478,47 @@ fn results_y_over_q_sign_and_old_files() {
     assert!(same_bits(&a.q_n, &b.q_n));
     assert!(b.zones[0].lead_m.iter().all(|v| v.is_nan()));
     assert!(b.zones[0].fallback.iter().all(|&f| f == 0));
+}
+
+/// The writer `sim run` uses: samples appended chunk by chunk while the
+/// run goes on (and restarted once, as a repeated run does) read back
+/// exactly as the record written in one piece; nothing is at the
+/// destination before `finish`, and the datasets are chunked and
+/// extendable.
+#[test]
+fn results_written_in_chunks_read_back_as_one_record() {
+    use runtime::io::schema::{RESULTS_CHUNK_SAMPLES, ResultsWriter};
+    let _guard = shared();
+    let dir = scratch("results_chunks");
+    let path = dir.join("run.h5");
+    let full = synthetic(RESULTS_CHUNK_SAMPLES + 700);
+    let mut writer = ResultsWriter::create(&path, &full).unwrap();
+    // A first attempt, then forgotten.
+    let mut first = full.clone();
+    first.keep_every(3);
+    writer.append_chunk(&first).unwrap();
+    writer.clear().unwrap();
+    assert_eq!(writer.samples(), 0);
+    // Chunks of 1000 samples taken from the front of a growing record.
+    let mut pending = RunResults::with_wheelsets(["leading", "trailing"]);
+    for start in (0..full.len()).step_by(1000) {
+        pending.append_where(&full, |i| (start..start + 1000).contains(&i));
+        writer.append_chunk(&pending.take_samples()).unwrap();
+    }
+    assert_eq!(writer.samples(), full.len());
+    // A chunk going back in time is refused.
+    let mut back_in_time = full.clone();
+    back_in_time.keep_every(full.len());
+    assert!(matches!(
+        writer.append_chunk(&back_in_time),
+        Err(SchemaError::InvalidResults { .. })
+    ));
+    assert!(!path.exists(), "nothing at the destination before finish");
+    writer.finish(&full.attributes, &full.scene_toml).unwrap();
+    let back = read_results(&path).unwrap();
+    assert_same(&full, &back);
+    let file = hdf5::File::open(&path).unwrap();
+    let ds = file.dataset("wheelset_1/right/flange/normal_n").unwrap();
+    assert_eq!(ds.chunk(), Some(vec![RESULTS_CHUNK_SAMPLES]));
+    assert!(ds.is_resizable());
 }

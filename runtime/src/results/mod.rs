@@ -13,8 +13,10 @@
 //! the wheel**. A zone's f64 values are NaN at samples where it is not in
 //! contact.
 
+pub mod chunks;
 pub mod columns;
 
+pub use chunks::{DecimatedView, ResultsSink, SinkError};
 pub use columns::{
     Access, Column, Dataset, TIME_S, Values, WHEEL_COLUMNS, WHEELSET_COLUMNS, ZONE_COLUMNS,
 };

@@ -12,15 +12,11 @@
 //! /left_rail/database       M×13 f64 (L x y z tx ty tz nx ny nz bx by bz)
 //! /right_rail/database      K×13 f64
 //! /contact_table/…          optional: the contact lookup table (see below)
-//! /contact_table/…          optional: the contact lookup table (see below)
 //! /imported_contact_table/… optional: a contact table from another code
 //!                           (`track-preproc import-contact-table`; layout in `imported`)
 //! /input/command_line       string
 //! /input/<role>             string: the input file's text, attribute `path`
 //! ```
-//!
-//! A file may hold only `/contact_table` (`track-preproc contact-table`),
-//! only the track, or both (`track-preproc build --wheel … --rail …`).
 //!
 //! A file may hold only `/contact_table` (`track-preproc contact-table`),
 //! only the track, or both (`track-preproc build --wheel … --rail …`).
@@ -44,12 +40,14 @@ mod columns;
 mod contact_table;
 mod imported;
 mod results_file;
+mod results_writer;
 mod track;
 
 pub use imported::{read_imported_contact_table, write_imported_contact_table_file};
 pub use results_file::{
     RESULTS_SCHEMA, RESULTS_SCHEMA_VERSION, RESULTS_TOOL, read_results, write_results,
 };
+pub use results_writer::{RESULTS_CHUNK_SAMPLES, ResultsWriter};
 pub use track::{
     TableFileWriter, read_contact_table, read_provenance, read_track, write_contact_table_file,
     write_track_file,

@@ -81,8 +81,11 @@
 //! reader fills them (Y, Q and Y/Q from the zones, NaN leads, no
 //! fallbacks) when a file lacks them.
 //!
-//! Datasets are contiguous and uncompressed (a 13.5 s run sampled at 1 kHz
-//! with two wheelsets is about 12 MB). Root attribute creation order is
+//! Datasets are uncompressed, chunked ([`super::RESULTS_CHUNK_SAMPLES`]
+//! samples per chunk) and extendable: `sim run` appends the samples while
+//! the run goes on ([`super::ResultsWriter`]), so its memory does not grow
+//! with the run's length (a 13.5 s run sampled at 1 kHz with two wheelsets
+//! is about 12 MB). Root attribute creation order is
 //! tracked, so the run metadata reads back in the order it was written.
 //! The file is written atomically ([`AtomicFile`]): nothing appears at the
 //! destination unless the whole file was written.
@@ -107,11 +110,11 @@ use hdf5::types::VarLenUnicode;
 use hdf5::{IndexType, IterationOrder};
 
 use super::columns::to_vlu;
+use super::results_writer::ResultsWriter;
 use super::{SchemaError, attrs};
 use crate::contact::nadal::NadalLimit;
-use crate::io::AtomicFile;
 use crate::results::{
-    Column, Dataset, RESERVED_ATTRIBUTES, RunResults, TIME_S, Values, WHEEL_COLUMNS, WHEEL_GROUPS,
+    Column, RESERVED_ATTRIBUTES, RunResults, TIME_S, Values, WHEEL_COLUMNS, WHEEL_GROUPS,
     WHEELSET_COLUMNS, WheelValues, WheelsetSample, WheelsetSeries, ZONE_COLUMNS, ZONE_GROUPS,
     ZoneSample, wheelset_group,
 };
@@ -124,7 +127,7 @@ pub const RESULTS_SCHEMA_VERSION: u32 = 1;
 pub const RESULTS_TOOL: &str = "sim";
 
 /// Attributes of a wheel group holding its Nadal limit.
-const NADAL_ATTRIBUTES: [&str; 3] = ["flange_angle_rad", "friction", "nadal_limit"];
+pub(super) const NADAL_ATTRIBUTES: [&str; 3] = ["flange_angle_rad", "friction", "nadal_limit"];
 
 // ---------------------------------------------------------------------------
 // Writing
@@ -139,50 +142,9 @@ fn hdf5_err(path: &Path, action: impl Into<String>) -> impl FnOnce(hdf5::Error) 
     }
 }
 
-/// Write a 1-D dataset with its `units` and `description`.
-fn write_series<T: hdf5::H5Type>(
-    path: &Path,
-    group: &hdf5::Group,
-    dataset: &Dataset,
-    values: &[T],
-) -> Result<(), SchemaError> {
-    let what = format!("{}/{}", group.name().trim_end_matches('/'), dataset.name);
-    let ds = group
-        .new_dataset_builder()
-        .with_data(values)
-        .create(dataset.name)
-        .map_err(hdf5_err(path, format!("writing {what}")))?;
-    attrs::write_str(path, &ds, "units", dataset.units)?;
-    attrs::write_str(path, &ds, "description", dataset.description)
-}
-
-/// Write every column of `columns` of the series `s` into `group`.
-fn write_columns<S, V>(
-    path: &Path,
-    group: &hdf5::Group,
-    columns: &[Column<S, V>],
-    s: &S,
-) -> Result<(), SchemaError> {
-    for c in columns {
-        match &c.values {
-            Values::F64(a) => write_series(path, group, &c.dataset, (a.series)(s))?,
-            Values::Flags { access, .. } => {
-                write_series(path, group, &c.dataset, (access.series)(s))?;
-            }
-        }
-    }
-    Ok(())
-}
-
-fn create_group(path: &Path, parent: &hdf5::Group, name: &str) -> Result<hdf5::Group, SchemaError> {
-    parent
-        .create_group(name)
-        .map_err(hdf5_err(path, format!("creating group {name}")))
-}
-
 /// Write `/scene` (the dataset handle is closed on return, so the file can
 /// be closed completely).
-fn write_scene(path: &Path, file: &hdf5::File, text: &str) -> Result<(), SchemaError> {
+pub(super) fn write_scene(path: &Path, file: &hdf5::File, text: &str) -> Result<(), SchemaError> {
     let scene = file
         .new_dataset::<VarLenUnicode>()
         .shape(())
@@ -200,8 +162,8 @@ fn write_scene(path: &Path, file: &hdf5::File, text: &str) -> Result<(), SchemaE
 }
 
 /// Write `results` to `path` atomically (see the module docs for the
-/// layout). The record is validated first; an inconsistent one is refused
-/// and nothing is written.
+/// layout), in one chunk of a [`ResultsWriter`]. The record is validated
+/// first; an inconsistent one is refused and nothing is written.
 pub fn write_results(path: &Path, results: &RunResults) -> Result<(), SchemaError> {
     results
         .validate()
@@ -209,51 +171,9 @@ pub fn write_results(path: &Path, results: &RunResults) -> Result<(), SchemaErro
             path: path.to_path_buf(),
             source,
         })?;
-    let atomic = AtomicFile::new(path);
-    let file = hdf5::File::with_options()
-        .with_fcpl(|p| p.attr_creation_order(hdf5::plist::file_create::AttrCreationOrder::Indexed))
-        .create(atomic.temp_path())
-        .map_err(|source| SchemaError::Create {
-            path: path.to_path_buf(),
-            source,
-        })?;
-
-    attrs::write_str(path, &file, "schema", RESULTS_SCHEMA)?;
-    attrs::write_u32(path, &file, "schema_version", RESULTS_SCHEMA_VERSION)?;
-    attrs::write_str(path, &file, "tool", RESULTS_TOOL)?;
-    attrs::write_str(path, &file, "tool_version", env!("CARGO_PKG_VERSION"))?;
-    for (name, value) in &results.attributes {
-        attrs::write_str(path, &file, name, value)?;
-    }
-
-    write_series(path, &file, &TIME_S, &results.time_s)?;
-    write_scene(path, &file, &results.scene_toml)?;
-
-    for (i, ws) in results.wheelsets.iter().enumerate() {
-        let g = create_group(path, &file, &wheelset_group(i))?;
-        attrs::write_str(path, &g, "name", &ws.name)?;
-        write_columns(path, &g, &WHEELSET_COLUMNS, ws)?;
-        for (wheel, wg) in ws.wheels.iter().zip(WHEEL_GROUPS) {
-            let g = create_group(path, &g, wg)?;
-            write_columns(path, &g, &WHEEL_COLUMNS, wheel)?;
-            if let Some(n) = &wheel.nadal {
-                let values = [n.flange_angle_rad, n.friction, n.limit];
-                for (name, v) in NADAL_ATTRIBUTES.into_iter().zip(values) {
-                    attrs::write_f64(path, &g, name, v)?;
-                }
-            }
-            for (zone, zg) in wheel.zones.iter().zip(ZONE_GROUPS) {
-                let g = create_group(path, &g, zg)?;
-                write_columns(path, &g, &ZONE_COLUMNS, zone)?;
-            }
-        }
-    }
-
-    file.close().map_err(hdf5_err(path, "closing"))?;
-    atomic.commit().map_err(|source| SchemaError::Io {
-        path: path.to_path_buf(),
-        source,
-    })
+    let mut writer = ResultsWriter::create(path, results)?;
+    writer.append_chunk(results)?;
+    writer.finish(&results.attributes, &results.scene_toml)
 }
 
 // ---------------------------------------------------------------------------

@@ -1,0 +1,307 @@
+//! The results file written while the run goes on (layout in
+//! `results_file`): [`ResultsWriter::create`] makes the file (under its
+//! temporary name, [`AtomicFile`]) with every dataset empty, chunked and
+//! extendable; [`ResultsWriter::append`] adds the samples of each chunk
+//! the run hands over; [`ResultsWriter::finish`] writes the run's
+//! attributes and scene and renames the file into place. So the memory a
+//! run needs does not grow with its length, and nothing appears at the
+//! destination unless the whole file was written (a run that fails or is
+//! interrupted is still finished, with its `status` saying so).
+
+use std::path::{Path, PathBuf};
+
+use super::results_file::{NADAL_ATTRIBUTES, RESULTS_SCHEMA, RESULTS_SCHEMA_VERSION, RESULTS_TOOL};
+use super::{SchemaError, attrs};
+use crate::io::AtomicFile;
+use crate::results::{
+    Column, Dataset, ResultsSink, RunResults, SinkError, TIME_S, Values, WHEEL_COLUMNS,
+    WHEEL_GROUPS, WHEELSET_COLUMNS, ZONE_COLUMNS, ZONE_GROUPS, wheelset_group,
+};
+
+/// Samples per HDF5 chunk of every dataset (32 KiB of f64): the unit in
+/// which the file grows and is read back.
+pub const RESULTS_CHUNK_SAMPLES: usize = 4096;
+
+/// A results file being written; see the module docs.
+#[derive(Debug)]
+pub struct ResultsWriter {
+    path: PathBuf,
+    atomic: AtomicFile,
+    file: hdf5::File,
+    wheelsets: usize,
+    written: usize,
+    last_time_s: Option<f64>,
+}
+
+fn hdf5_err(path: &Path, action: impl Into<String>) -> impl FnOnce(hdf5::Error) -> SchemaError {
+    let path = path.to_path_buf();
+    let action = action.into();
+    move |source| SchemaError::Hdf5 {
+        path,
+        action,
+        source,
+    }
+}
+
+/// Create the empty, extendable dataset `dataset` of `group`.
+fn create_series<T: hdf5::H5Type>(
+    path: &Path,
+    group: &hdf5::Group,
+    dataset: &Dataset,
+) -> Result<(), SchemaError> {
+    let what = format!("{}/{}", group.name().trim_end_matches('/'), dataset.name);
+    let ds = group
+        .new_dataset::<T>()
+        .chunk(RESULTS_CHUNK_SAMPLES)
+        .shape(0..)
+        .create(dataset.name)
+        .map_err(hdf5_err(path, format!("creating {what}")))?;
+    attrs::write_str(path, &ds, "units", dataset.units)?;
+    attrs::write_str(path, &ds, "description", dataset.description)
+}
+
+/// Append `values` to the dataset `name` of `group`, which holds `from`
+/// values.
+fn append_series<T: hdf5::H5Type>(
+    path: &Path,
+    group: &hdf5::Group,
+    name: &str,
+    from: usize,
+    values: &[T],
+) -> Result<(), SchemaError> {
+    let what = format!("{}/{name}", group.name().trim_end_matches('/'));
+    let ds = group
+        .dataset(name)
+        .map_err(hdf5_err(path, format!("opening {what}")))?;
+    let to = from + values.len();
+    ds.resize(to)
+        .map_err(hdf5_err(path, format!("extending {what}")))?;
+    if !values.is_empty() {
+        ds.write_slice(values, from..to)
+            .map_err(hdf5_err(path, format!("writing {what}")))?;
+    }
+    Ok(())
+}
+
+fn create_columns<S, V>(
+    path: &Path,
+    group: &hdf5::Group,
+    columns: &[Column<S, V>],
+) -> Result<(), SchemaError> {
+    for c in columns {
+        match &c.values {
+            Values::F64(_) => create_series::<f64>(path, group, &c.dataset)?,
+            Values::Flags { .. } => create_series::<u8>(path, group, &c.dataset)?,
+        }
+    }
+    Ok(())
+}
+
+fn append_columns<S, V>(
+    path: &Path,
+    group: &hdf5::Group,
+    columns: &[Column<S, V>],
+    s: &S,
+    from: usize,
+) -> Result<(), SchemaError> {
+    for c in columns {
+        match &c.values {
+            Values::F64(a) => append_series(path, group, c.name(), from, (a.series)(s))?,
+            Values::Flags { access, .. } => {
+                append_series(path, group, c.name(), from, (access.series)(s))?;
+            }
+        }
+    }
+    Ok(())
+}
+
+fn create_group(path: &Path, parent: &hdf5::Group, name: &str) -> Result<hdf5::Group, SchemaError> {
+    parent
+        .create_group(name)
+        .map_err(hdf5_err(path, format!("creating group {name}")))
+}
+
+fn open_group(path: &Path, parent: &hdf5::Group, name: &str) -> Result<hdf5::Group, SchemaError> {
+    parent
+        .group(name)
+        .map_err(hdf5_err(path, format!("opening group {name}")))
+}
+
+impl ResultsWriter {
+    /// Create the results file for `path` (written under its temporary
+    /// name until [`Self::finish`]) with the wheelsets of `template` (their
+    /// names and Nadal limits; its samples are not written).
+    pub fn create(path: &Path, template: &RunResults) -> Result<Self, SchemaError> {
+        let atomic = AtomicFile::new(path);
+        let file = hdf5::File::with_options()
+            .with_fcpl(|p| {
+                p.attr_creation_order(hdf5::plist::file_create::AttrCreationOrder::Indexed)
+            })
+            .create(atomic.temp_path())
+            .map_err(|source| SchemaError::Create {
+                path: path.to_path_buf(),
+                source,
+            })?;
+        attrs::write_str(path, &file, "schema", RESULTS_SCHEMA)?;
+        attrs::write_u32(path, &file, "schema_version", RESULTS_SCHEMA_VERSION)?;
+        attrs::write_str(path, &file, "tool", RESULTS_TOOL)?;
+        attrs::write_str(path, &file, "tool_version", env!("CARGO_PKG_VERSION"))?;
+        create_series::<f64>(path, &file, &TIME_S)?;
+        for (i, ws) in template.wheelsets.iter().enumerate() {
+            let g = create_group(path, &file, &wheelset_group(i))?;
+            attrs::write_str(path, &g, "name", &ws.name)?;
+            create_columns(path, &g, &WHEELSET_COLUMNS)?;
+            for (wheel, wg) in ws.wheels.iter().zip(WHEEL_GROUPS) {
+                let g = create_group(path, &g, wg)?;
+                create_columns(path, &g, &WHEEL_COLUMNS)?;
+                if let Some(n) = &wheel.nadal {
+                    let values = [n.flange_angle_rad, n.friction, n.limit];
+                    for (name, v) in NADAL_ATTRIBUTES.into_iter().zip(values) {
+                        attrs::write_f64(path, &g, name, v)?;
+                    }
+                }
+                for zg in ZONE_GROUPS {
+                    let g = create_group(path, &g, zg)?;
+                    create_columns(path, &g, &ZONE_COLUMNS)?;
+                }
+            }
+        }
+        Ok(Self {
+            path: path.to_path_buf(),
+            atomic,
+            file,
+            wheelsets: template.wheelsets.len(),
+            written: 0,
+            last_time_s: None,
+        })
+    }
+
+    /// The destination.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Samples written so far.
+    pub fn samples(&self) -> usize {
+        self.written
+    }
+
+    /// Append the samples of `chunk`: the same wheelsets as the template,
+    /// a consistent record ([`RunResults::validate`]) whose times do not go
+    /// back before the last sample written. Refused chunks write nothing.
+    pub fn append_chunk(&mut self, chunk: &RunResults) -> Result<(), SchemaError> {
+        let path = &self.path;
+        let invalid = |source| SchemaError::InvalidResults {
+            path: path.to_path_buf(),
+            source,
+        };
+        chunk.validate().map_err(invalid)?;
+        if chunk.wheelsets.len() != self.wheelsets {
+            return Err(invalid(crate::results::ResultsError::WheelsetCount {
+                expected: self.wheelsets,
+                found: chunk.wheelsets.len(),
+            }));
+        }
+        if let (Some(&first), Some(previous)) = (chunk.time_s.first(), self.last_time_s)
+            && first < previous
+        {
+            return Err(invalid(crate::results::ResultsError::TimeDecreasing {
+                index: self.written,
+                previous,
+                value: first,
+            }));
+        }
+        let from = self.written;
+        append_series(path, &self.file, TIME_S.name, from, &chunk.time_s)?;
+        for (i, ws) in chunk.wheelsets.iter().enumerate() {
+            let g = open_group(path, &self.file, &wheelset_group(i))?;
+            append_columns(path, &g, &WHEELSET_COLUMNS, ws, from)?;
+            for (wheel, wg) in ws.wheels.iter().zip(WHEEL_GROUPS) {
+                let g = open_group(path, &g, wg)?;
+                append_columns(path, &g, &WHEEL_COLUMNS, wheel, from)?;
+                for (zone, zg) in wheel.zones.iter().zip(ZONE_GROUPS) {
+                    let g = open_group(path, &g, zg)?;
+                    append_columns(path, &g, &ZONE_COLUMNS, zone, from)?;
+                }
+            }
+        }
+        self.written += chunk.len();
+        if let Some(&t) = chunk.time_s.last() {
+            self.last_time_s = Some(t);
+        }
+        Ok(())
+    }
+
+    /// Drop every sample written (the datasets back to length 0).
+    pub fn clear(&mut self) -> Result<(), SchemaError> {
+        let empty = RunResults {
+            wheelsets: vec![Default::default(); self.wheelsets],
+            ..RunResults::default()
+        };
+        // Appending nothing from 0 resizes every dataset to 0.
+        self.written = 0;
+        self.last_time_s = None;
+        let path = self.path.clone();
+        append_series::<f64>(&path, &self.file, TIME_S.name, 0, &[])?;
+        for (i, ws) in empty.wheelsets.iter().enumerate() {
+            let g = open_group(&path, &self.file, &wheelset_group(i))?;
+            append_columns(&path, &g, &WHEELSET_COLUMNS, ws, 0)?;
+            for (wheel, wg) in ws.wheels.iter().zip(WHEEL_GROUPS) {
+                let g = open_group(&path, &g, wg)?;
+                append_columns(&path, &g, &WHEEL_COLUMNS, wheel, 0)?;
+                for (zone, zg) in wheel.zones.iter().zip(ZONE_GROUPS) {
+                    let g = open_group(&path, &g, zg)?;
+                    append_columns(&path, &g, &ZONE_COLUMNS, zone, 0)?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Write the run's metadata (`attributes`, names as
+    /// [`RunResults::attributes`] requires) and scene text, close the file
+    /// and move it into place.
+    pub fn finish(
+        self,
+        attributes: &[(String, String)],
+        scene_toml: &str,
+    ) -> Result<(), SchemaError> {
+        let path = self.path;
+        RunResults {
+            attributes: attributes.to_vec(),
+            ..RunResults::default()
+        }
+        .validate()
+        .map_err(|source| SchemaError::InvalidResults {
+            path: path.clone(),
+            source,
+        })?;
+        for (name, value) in attributes {
+            attrs::write_str(&path, &self.file, name, value)?;
+        }
+        super::results_file::write_scene(&path, &self.file, scene_toml)?;
+        self.file.close().map_err(hdf5_err(&path, "closing"))?;
+        self.atomic.commit().map_err(|source| SchemaError::Io {
+            path: path.clone(),
+            source,
+        })
+    }
+}
+
+impl ResultsSink for ResultsWriter {
+    fn append(&mut self, chunk: &RunResults) -> Result<(), SinkError> {
+        self.append_chunk(chunk).map_err(|e| SinkError {
+            message: e.to_string(),
+        })
+    }
+
+    fn restart(&mut self) -> Result<(), SinkError> {
+        self.clear().map_err(|e| SinkError {
+            message: e.to_string(),
+        })
+    }
+
+    fn len(&self) -> usize {
+        self.written
+    }
+}
