@@ -492,7 +492,7 @@ fn results_written_in_chunks_read_back_as_one_record() {
     let dir = scratch("results_chunks");
     let path = dir.join("run.h5");
     let full = synthetic(RESULTS_CHUNK_SAMPLES + 700);
-    let mut writer = ResultsWriter::create(&path, &full).unwrap();
+    let mut writer = ResultsWriter::create(&path).unwrap();
     // A first attempt, then forgotten.
     let mut first = full.clone();
     first.keep_every(3);
@@ -514,7 +514,7 @@ fn results_written_in_chunks_read_back_as_one_record() {
         Err(SchemaError::InvalidResults { .. })
     ));
     assert!(!path.exists(), "nothing at the destination before finish");
-    writer.finish(&full.attributes, &full.scene_toml).unwrap();
+    writer.finish(&full).unwrap();
     let back = read_results(&path).unwrap();
     assert_same(&full, &back);
     let file = hdf5::File::open(&path).unwrap();

@@ -25,6 +25,18 @@ impl RunSummary {
             self.mean_newton_iterations,
             self.cold_starts
         );
+        s += &format!(
+            "  {} samples in the results{}\n",
+            self.output_samples,
+            self.peak_memory_mib
+                .map_or(String::new(), |m| format!("; peak memory {m:.0} MiB")),
+        );
+        if self.summary_stride > 1 {
+            s += &format!(
+                "  the figures below and the plots are from every {}-th of the {} samples (memory bound; the results file holds them all)\n",
+                self.summary_stride, self.output_samples
+            );
+        }
         for w in &self.wheelsets {
             s += &format!(
                 "  wheelset {}: peak lateral {:.2} mm (final {:+.2} mm); travelled left {:.3} m, right {:.3} m; flange contact {:.2} s / {:.2} s ({} events)\n",

@@ -10,6 +10,7 @@
 //! kept in [`RunOutcome::failure`] so that the results can be written first.
 
 pub mod diagnostics;
+pub mod stream;
 pub mod summary;
 
 pub use summary::{EnergySummary, RunSummary, WheelsetSummary};
@@ -94,22 +95,32 @@ pub fn run_scene(
     stop: Option<Arc<AtomicBool>>,
 ) -> Result<RunOutcome> {
     let plan = crate::session::plan::plan(scene).context("planning the run")?;
-    run_scene_with_plan(scene, plan, progress, stop)
+    run_scene_with_plan(scene, plan, progress, stop, None)
 }
 
 /// Runs a scene with the decisions of [`crate::session::plan::plan`]; a run
 /// whose flange guard trips is repeated with the flange searched (`auto`).
+/// With a `sink` the samples go to it while the run goes on
+/// ([`stream`]) and the outcome's results are the bounded view of them;
+/// without, every sample stays in memory (the studies).
 pub fn run_scene_with_plan(
     scene: &LoadedScene,
     mut plan: crate::session::plan::Plan,
     progress: &mut dyn FnMut(RunProgress),
     stop: Option<Arc<AtomicBool>>,
+    sink: Option<&mut dyn runtime::results::ResultsSink>,
 ) -> Result<RunOutcome> {
+    let mut stream = sink.map(stream::Stream::new);
     loop {
         let session = Session::assemble(scene, plan.clone())?;
-        match run_session(&session, progress, stop.clone())? {
+        match run_session(&session, progress, stop.clone(), stream.as_mut())? {
             Attempt::Done(outcome) => return Ok(*outcome),
-            Attempt::Revise(why) => plan.revise_flange(&why),
+            Attempt::Revise(why) => {
+                if let Some(s) = stream.as_mut() {
+                    s.restart().context("restarting the results file")?;
+                }
+                plan.revise_flange(&why)
+            }
         }
     }
 }
@@ -126,6 +137,7 @@ fn run_session(
     session: &Session,
     progress: &mut dyn FnMut(RunProgress),
     stop: Option<Arc<AtomicBool>>,
+    mut stream: Option<&mut stream::Stream<'_>>,
 ) -> Result<Attempt> {
     let setup_start = Instant::now();
     let ls = &session.scene;
@@ -191,6 +203,9 @@ fn run_session(
                     guard_flag.store(true, std::sync::atomic::Ordering::Relaxed);
                 }
             }
+            if let Some(s) = stream.as_mut() {
+                s.flush(&mut recorder.results, stream::FLUSH_SAMPLES, t)?;
+            }
             Ok(())
         },
     );
@@ -223,7 +238,17 @@ fn run_session(
         Ok(s) => (Some(s), None),
         Err(e) => (None, Some(anyhow!(e))),
     };
-    let simulated_time_s = recorder.results.time_s.last().copied().unwrap_or(0.0);
+    // The last samples to the sink, and the view of all of them in place
+    // of the recorder's record.
+    let mut simulated_time_s = recorder.results.time_s.last().copied().unwrap_or(0.0);
+    let (mut output_samples, mut summary_stride) = (recorder.results.len(), 1);
+    if let Some(s) = stream.as_mut() {
+        s.flush(&mut recorder.results, 1, simulated_time_s)
+            .context("writing the last samples")?;
+        output_samples = s.samples();
+        simulated_time_s = s.last_time_s();
+        summary_stride = s.view_into(&mut recorder.results);
+    }
     let stopped = match &stats {
         Some(IntegrationStats { stopped: true, .. }) => {
             if stop
@@ -302,7 +327,9 @@ fn run_session(
         steps: stats.map_or(counters.accepted, |s| s.steps),
         rejected_steps: stats.map_or(0, |s| s.rejected),
         rhs_evaluations: counters.evaluations,
-        output_samples: results.len(),
+        output_samples,
+        summary_stride,
+        peak_memory_mib: None,
         contact_solves: stats_solvers.solves,
         mean_newton_iterations: if stats_solvers.solves > 0 {
             stats_solvers.iterations as f64 / stats_solvers.solves as f64

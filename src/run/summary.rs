@@ -87,7 +87,16 @@ pub struct RunSummary {
     pub steps: u64,
     pub rejected_steps: u64,
     pub rhs_evaluations: u64,
+    /// Samples in the results (the file holds them all).
     pub output_samples: usize,
+    /// The summary's figures and the plots come from every
+    /// `summary_stride`-th sample (1: all; more for a run longer than
+    /// `crate::run::stream::VIEW_MAX_SAMPLES` samples, whose memory is
+    /// bounded that way).
+    pub summary_stride: usize,
+    /// Peak resident memory of the process when the outputs were written
+    /// (MiB; Linux `VmHWM`), `None` where the system does not say.
+    pub peak_memory_mib: Option<f64>,
     pub contact_solves: u64,
     pub mean_newton_iterations: f64,
     pub cold_starts: u64,

@@ -301,3 +301,93 @@ fn unit_slips_in_the_run_section_are_refused_before_the_run() {
         stderr(&o)
     );
 }
+
+/// A run's results file and its plots are one output: while one `sim run`
+/// writes them, a second one naming the same results file, or the same
+/// plots folder, is refused at once (naming the first's process id) and
+/// writes nothing; once the first has finished the outputs are free again.
+#[test]
+fn two_runs_of_one_output_at_once_are_refused() {
+    let dir = scratch("trust_concurrent_runs");
+    let out = dir.join("run.h5");
+    let plots = dir.join("plots");
+    let cache = dir.join("cache");
+    let start = |out: &Path, plots: &Path| {
+        sim()
+            .env("RAILSIM_CACHE_DIR", &cache)
+            .args(["run", &wheelset_scene(), "--quiet", "-o"])
+            .arg(out)
+            .arg("--plots")
+            .arg(plots)
+            .args(["--set", "initial.speed_m_s=2"])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("sim starts")
+    };
+    let first = start(&out, &plots);
+    let lock = dir.join(".run.h5.lock");
+    let waited = std::time::Instant::now();
+    while !lock.exists() && waited.elapsed().as_secs() < 120 {
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    assert!(lock.exists(), "the first run takes its lock");
+    let pid = first.id().to_string();
+    for (o, p, what) in [
+        (
+            out.clone(),
+            dir.join("other_plots"),
+            "the same results file",
+        ),
+        (dir.join("other.h5"), plots.clone(), "the same plots folder"),
+    ] {
+        let second = start(&o, &p).wait_with_output().expect("sim ends");
+        assert!(!second.status.success(), "{what}");
+        let err = stderr(&second);
+        assert!(
+            err.contains("is being written by another process") && err.contains(&pid),
+            "{what}: {err}"
+        );
+        assert!(!o.exists() || o == out, "{what}: nothing written");
+    }
+    assert!(!dir.join("other.h5").exists());
+    let k = run(Command::new("kill").args(["-TERM", &pid]));
+    assert!(k.status.success());
+    let o = first.wait_with_output().expect("sim ends");
+    assert_eq!(o.status.code(), Some(130), "{}", stderr(&o));
+    assert!(!lock.exists(), "the lock goes with its run");
+    assert!(files_in(&dir).iter().all(|f| !f.ends_with(".lock")));
+}
+
+/// A run longer than the in-memory view (200 000 samples) streams every
+/// sample to the file and keeps every 2nd for its summary and plots, and
+/// says so; the summary reports the peak memory.
+#[test]
+fn a_long_run_streams_its_samples_and_bounds_its_memory() {
+    let dir = scratch("trust_long_run");
+    let out = dir.join("run.h5");
+    let o = run(sim()
+        .env("RAILSIM_CACHE_DIR", dir.join("cache"))
+        .args(["run", &wheelset_scene(), "--no-plots", "--json", "-o"])
+        .arg(&out)
+        .args([
+            "--set",
+            "run.distance_m=2.1", // 0.21 s at the scene's 10 m/s
+            "--set",
+            "run.output_interval_s=1e-6",
+        ]));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let j: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON summary");
+    let n = j["output_samples"].as_u64().expect("a count") as usize;
+    assert!((200_001..=210_001).contains(&n), "{j}");
+    assert_eq!(j["summary_stride"], 2, "{j}");
+    assert!(
+        j["peak_memory_mib"].as_f64().is_some_and(|m| m > 1.0),
+        "{j}"
+    );
+    let r = runtime::io::schema::read_results(&out).unwrap();
+    assert_eq!(r.len(), n, "the file holds every sample");
+    assert!(r.time_s.windows(2).all(|w| w[1] > w[0]));
+    let dt = (r.time_s[n - 1] - r.time_s[0]) / (n - 1) as f64;
+    assert!((dt - 1e-6).abs() < 1e-12, "{dt}");
+}

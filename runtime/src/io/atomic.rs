@@ -123,7 +123,8 @@ fn in_flight() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
     IN_FLIGHT.lock().unwrap_or_else(|e| e.into_inner())
 }
 
-/// Removes the temporaries this process is writing: for a binary's
+/// Removes the temporaries this process is writing (and its output locks,
+/// [`super::lock`]): for a binary's
 /// SIGINT/SIGTERM handler, just before it exits (the outputs being written
 /// are then incomplete and are not committed). Returns how many it removed.
 pub fn remove_temporaries_in_flight() -> usize {
@@ -136,9 +137,20 @@ pub fn remove_temporaries_in_flight() -> usize {
     n
 }
 
+/// List `path` among the files this process is writing, for
+/// [`remove_temporaries_in_flight`] (a lock file, [`super::lock`]).
+pub(crate) fn register_in_flight(path: &Path) {
+    in_flight().push(path.to_path_buf());
+}
+
+/// No longer list `path` ([`register_in_flight`]).
+pub(crate) fn unregister_in_flight(path: &Path) {
+    in_flight().retain(|t| t != path);
+}
+
 /// Whether process `pid` is running (Linux: `/proc/<pid>`; elsewhere it is
 /// assumed running, so that nothing of a live writer is removed).
-fn process_running(pid: u32) -> bool {
+pub(crate) fn process_running(pid: u32) -> bool {
     let proc_dir = Path::new("/proc");
     if !proc_dir.join("self").exists() {
         return true;

@@ -6,10 +6,12 @@
 
 pub mod atomic;
 pub mod csv;
+pub mod lock;
 pub mod outputs;
 pub mod profile_import;
 pub mod schema;
 
+pub use lock::{LockError, OutputLock};
 pub use outputs::{Output, OutputError, OutputKind, check_outputs};
 
 pub use atomic::{

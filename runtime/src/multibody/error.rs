@@ -60,4 +60,8 @@ pub enum DynamicsError {
     },
     #[error("wheelset '{wheelset}': {reason}")]
     Assembly { wheelset: String, reason: String },
+    /// The samples could not be handed to the results file while the run
+    /// went on (`crate::results::ResultsSink`; the message names the file).
+    #[error("writing the results at t = {t_s:.6} s: {message}")]
+    Output { t_s: f64, message: String },
 }

@@ -171,9 +171,9 @@ pub fn write_results(path: &Path, results: &RunResults) -> Result<(), SchemaErro
             path: path.to_path_buf(),
             source,
         })?;
-    let mut writer = ResultsWriter::create(path, results)?;
+    let mut writer = ResultsWriter::create(path)?;
     writer.append_chunk(results)?;
-    writer.finish(&results.attributes, &results.scene_toml)
+    writer.finish(results)
 }
 
 // ---------------------------------------------------------------------------

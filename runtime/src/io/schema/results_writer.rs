@@ -18,9 +18,9 @@ use crate::results::{
     WHEEL_GROUPS, WHEELSET_COLUMNS, ZONE_COLUMNS, ZONE_GROUPS, wheelset_group,
 };
 
-/// Samples per HDF5 chunk of every dataset (32 KiB of f64): the unit in
+/// Samples per HDF5 chunk of every dataset (8 KiB of f64): the unit in
 /// which the file grows and is read back.
-pub const RESULTS_CHUNK_SAMPLES: usize = 4096;
+pub const RESULTS_CHUNK_SAMPLES: usize = 1024;
 
 /// A results file being written; see the module docs.
 #[derive(Debug)]
@@ -28,7 +28,8 @@ pub struct ResultsWriter {
     path: PathBuf,
     atomic: AtomicFile,
     file: hdf5::File,
-    wheelsets: usize,
+    /// Wheelset groups made (with the first chunk).
+    wheelsets: Option<usize>,
     written: usize,
     last_time_s: Option<f64>,
 }
@@ -128,10 +129,11 @@ fn open_group(path: &Path, parent: &hdf5::Group, name: &str) -> Result<hdf5::Gro
 }
 
 impl ResultsWriter {
-    /// Create the results file for `path` (written under its temporary
-    /// name until [`Self::finish`]) with the wheelsets of `template` (their
-    /// names and Nadal limits; its samples are not written).
-    pub fn create(path: &Path, template: &RunResults) -> Result<Self, SchemaError> {
+    /// Create the results file for `path`, written under its temporary
+    /// name until [`Self::finish`]: creating it first probes the output
+    /// location before any work. The wheelset groups are made with the
+    /// first chunk (their names and Nadal limits).
+    pub fn create(path: &Path) -> Result<Self, SchemaError> {
         let atomic = AtomicFile::new(path);
         let file = hdf5::File::with_options()
             .with_fcpl(|p| {
@@ -147,8 +149,35 @@ impl ResultsWriter {
         attrs::write_str(path, &file, "tool", RESULTS_TOOL)?;
         attrs::write_str(path, &file, "tool_version", env!("CARGO_PKG_VERSION"))?;
         create_series::<f64>(path, &file, &TIME_S)?;
-        for (i, ws) in template.wheelsets.iter().enumerate() {
-            let g = create_group(path, &file, &wheelset_group(i))?;
+        Ok(Self {
+            path: path.to_path_buf(),
+            atomic,
+            file,
+            wheelsets: None,
+            written: 0,
+            last_time_s: None,
+        })
+    }
+
+    /// Make the wheelset groups of `record` (names, Nadal limits) unless
+    /// made; refuse a record with another number of wheelsets.
+    fn ensure_wheelsets(&mut self, record: &RunResults) -> Result<(), SchemaError> {
+        let path = &self.path;
+        match self.wheelsets {
+            Some(n) if n == record.wheelsets.len() => return Ok(()),
+            Some(n) => {
+                return Err(SchemaError::InvalidResults {
+                    path: path.to_path_buf(),
+                    source: crate::results::ResultsError::WheelsetCount {
+                        expected: n,
+                        found: record.wheelsets.len(),
+                    },
+                });
+            }
+            None => {}
+        }
+        for (i, ws) in record.wheelsets.iter().enumerate() {
+            let g = create_group(path, &self.file, &wheelset_group(i))?;
             attrs::write_str(path, &g, "name", &ws.name)?;
             create_columns(path, &g, &WHEELSET_COLUMNS)?;
             for (wheel, wg) in ws.wheels.iter().zip(WHEEL_GROUPS) {
@@ -166,14 +195,8 @@ impl ResultsWriter {
                 }
             }
         }
-        Ok(Self {
-            path: path.to_path_buf(),
-            atomic,
-            file,
-            wheelsets: template.wheelsets.len(),
-            written: 0,
-            last_time_s: None,
-        })
+        self.wheelsets = Some(record.wheelsets.len());
+        Ok(())
     }
 
     /// The destination.
@@ -186,8 +209,8 @@ impl ResultsWriter {
         self.written
     }
 
-    /// Append the samples of `chunk`: the same wheelsets as the template,
-    /// a consistent record ([`RunResults::validate`]) whose times do not go
+    /// Append the samples of `chunk`: the same wheelsets as every other
+    /// chunk, a consistent record ([`RunResults::validate`]) whose times do not go
     /// back before the last sample written. Refused chunks write nothing.
     pub fn append_chunk(&mut self, chunk: &RunResults) -> Result<(), SchemaError> {
         let path = &self.path;
@@ -196,12 +219,6 @@ impl ResultsWriter {
             source,
         };
         chunk.validate().map_err(invalid)?;
-        if chunk.wheelsets.len() != self.wheelsets {
-            return Err(invalid(crate::results::ResultsError::WheelsetCount {
-                expected: self.wheelsets,
-                found: chunk.wheelsets.len(),
-            }));
-        }
         if let (Some(&first), Some(previous)) = (chunk.time_s.first(), self.last_time_s)
             && first < previous
         {
@@ -211,6 +228,8 @@ impl ResultsWriter {
                 value: first,
             }));
         }
+        self.ensure_wheelsets(chunk)?;
+        let path = &self.path;
         let from = self.written;
         append_series(path, &self.file, TIME_S.name, from, &chunk.time_s)?;
         for (i, ws) in chunk.wheelsets.iter().enumerate() {
@@ -235,7 +254,7 @@ impl ResultsWriter {
     /// Drop every sample written (the datasets back to length 0).
     pub fn clear(&mut self) -> Result<(), SchemaError> {
         let empty = RunResults {
-            wheelsets: vec![Default::default(); self.wheelsets],
+            wheelsets: vec![Default::default(); self.wheelsets.unwrap_or(0)],
             ..RunResults::default()
         };
         // Appending nothing from 0 resizes every dataset to 0.
@@ -258,28 +277,27 @@ impl ResultsWriter {
         Ok(())
     }
 
-    /// Write the run's metadata (`attributes`, names as
+    /// Write the run's metadata (`record`'s attributes, named as
     /// [`RunResults::attributes`] requires) and scene text, close the file
-    /// and move it into place.
-    pub fn finish(
-        self,
-        attributes: &[(String, String)],
-        scene_toml: &str,
-    ) -> Result<(), SchemaError> {
-        let path = self.path;
+    /// and move it into place. `record`'s samples are not written (they
+    /// were appended); its wheelsets make the groups of a run that ended
+    /// before its first sample.
+    pub fn finish(mut self, record: &RunResults) -> Result<(), SchemaError> {
         RunResults {
-            attributes: attributes.to_vec(),
+            attributes: record.attributes.clone(),
             ..RunResults::default()
         }
         .validate()
         .map_err(|source| SchemaError::InvalidResults {
-            path: path.clone(),
+            path: self.path.clone(),
             source,
         })?;
-        for (name, value) in attributes {
+        self.ensure_wheelsets(record)?;
+        let path = self.path;
+        for (name, value) in &record.attributes {
             attrs::write_str(&path, &self.file, name, value)?;
         }
-        super::results_file::write_scene(&path, &self.file, scene_toml)?;
+        super::results_file::write_scene(&path, &self.file, &record.scene_toml)?;
         self.file.close().map_err(hdf5_err(&path, "closing"))?;
         self.atomic.commit().map_err(|source| SchemaError::Io {
             path: path.clone(),
