@@ -213,6 +213,9 @@ pub struct RunDiagnostic {
     /// The likely cause and what to do, where the kind tells it (a
     /// blow-up, a flange passed through, a step size collapse).
     pub likely_cause: Option<String>,
+    /// |y| passed the derailment limit with the flange search off and no
+    /// sign of a blow-up: the wheelset ran through its flange.
+    pub ran_through_flange: bool,
     /// The error itself.
     pub detail: String,
 }
@@ -251,6 +254,12 @@ impl RunDiagnostic {
     /// Whether the failure is a numerical blow-up (signs were found).
     pub fn is_blow_up(&self) -> bool {
         !self.blow_up_signs.is_empty()
+    }
+
+    /// Whether a failure of the derailment check is no derailment: a
+    /// blow-up, or a flange run through its rail with the search off.
+    pub fn is_not_a_derailment(&self) -> bool {
+        self.is_blow_up() || self.ran_through_flange
     }
 }
 
@@ -485,6 +494,7 @@ pub fn diagnose(
         Some((w, z)) => (Some(w), Some(z)),
         None => (None, None),
     };
+    let ran_through_flange = derailed && context.flange_off && signs.is_empty();
     RunDiagnostic {
         kind,
         t_s,
@@ -494,6 +504,7 @@ pub fn diagnose(
         states,
         blow_up_signs: signs,
         likely_cause,
+        ran_through_flange,
         detail: format!("{error}"),
     }
 }
@@ -629,6 +640,7 @@ mod tests {
             }],
             blow_up_signs: Vec::new(),
             likely_cause: None,
+            ran_through_flange: false,
             detail: "…".into(),
         };
         let h = d.headline();

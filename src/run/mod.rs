@@ -266,32 +266,21 @@ fn run_session(
     }
     let (stats, error) = match outcome {
         Ok(s) => (Some(s), None),
-        // A blow-up's own words: the runtime's error would call the |y| it
-        // reached a derailment.
-        Err(e @ IntegratorError::System(DynamicsError::Derailed { .. }))
-            if diagnostic.as_ref().is_some_and(|d| {
-                d.is_blow_up() || d.kind.starts_with("ran through its flange")
-            }) =>
-        {
-            let d = diagnostic.as_ref().expect("checked");
-            let IntegratorError::System(DynamicsError::Derailed {
-                wheelset,
-                t_s,
-                lateral_mm,
-                limit_mm,
-            }) = &e
-            else {
-                unreachable!("matched above")
-            };
-            (
-                None,
-                Some(anyhow!(
-                    "{} at t = {t_s:.6} s: wheelset '{wheelset}' reached |y| = {:.1} mm, beyond the {limit_mm:.1} mm of the derailment check",
-                    d.kind,
-                    lateral_mm.abs()
-                )),
-            )
-        }
+        // A blow-up's own words (or a flange run through): the runtime's
+        // error would call the |y| it reached a derailment.
+        Err(IntegratorError::System(DynamicsError::Derailed {
+            wheelset,
+            t_s,
+            lateral_mm,
+            limit_mm,
+        })) if diagnostic.as_ref().is_some_and(|d| d.is_not_a_derailment()) => (
+            None,
+            Some(anyhow!(
+                "{} at t = {t_s:.6} s: wheelset '{wheelset}' reached |y| = {:.1} mm, beyond the {limit_mm:.1} mm of the derailment check",
+                diagnostic.as_ref().map_or("", |d| d.kind.as_str()),
+                lateral_mm.abs()
+            )),
+        ),
         Err(e) => (None, Some(anyhow!(e))),
     };
     let simulated_time_s = recorder.results.time_s.last().copied().unwrap_or(0.0);
