@@ -193,6 +193,86 @@ pub struct ContactSection {
     pub non_hertzian: NonHertzianMode,
 }
 
+/// Plausible Young's modulus of wheel and rail steel (Pa): steels lie at
+/// 190–215 GPa, cast irons at 100–170 GPa; 50–500 GPa brackets every
+/// engineering metal from aluminium (70 GPa) to tungsten (411 GPa), and
+/// refuses 210 000 (MPa given as Pa) and 210 (GPa given as Pa).
+pub const YOUNG_PA_RANGE: [f64; 2] = [50e9, 500e9];
+
+/// Plausible shear modulus G (Pa): E/(2(1 + ν)) over [`YOUNG_PA_RANGE`]
+/// and [`POISSON_RANGE`] is 17–217 GPa (steel: 81 GPa; DYTSI's Cooperrider
+/// model: 144 GPa).
+pub const SHEAR_MODULUS_PA_RANGE: [f64; 2] = [15e9, 250e9];
+
+/// Plausible Poisson's ratio: metals lie at 0.25–0.35 (steel 0.28–0.30);
+/// 0.1–0.45 leaves margin on both sides and refuses 30 (a percentage).
+pub const POISSON_RANGE: [f64; 2] = [0.1, 0.45];
+
+/// Plausible wheel–rail friction coefficient: measured adhesion lies
+/// between about 0.05 (leaves, ice) and 0.6 (dry, sanded); no steel
+/// contact in air exceeds 1. 0 (frictionless) stays allowed; 30 is a
+/// percentage.
+pub const FRICTION_RANGE: [f64; 2] = [0.0, 1.0];
+
+/// `value` in `[lo, hi]` (finite), or an error naming the entry, its unit
+/// (" Pa": numbers in exponent form) and the range with "check the unit".
+fn plausible(key: &str, value: f64, [lo, hi]: [f64; 2], unit: &str, hint: &str) -> Result<()> {
+    let show = |v: f64| {
+        if unit.is_empty() {
+            format!("{v}")
+        } else {
+            format!("{v:e}")
+        }
+    };
+    ensure!(
+        value.is_finite() && value >= lo && value <= hi,
+        "[contact] {key} = {} is outside the plausible {} … {}{unit} of a wheel–rail contact (check the unit{hint})",
+        show(value),
+        show(lo),
+        show(hi)
+    );
+    Ok(())
+}
+
+impl ContactSection {
+    /// The material and friction entries against their plausible ranges
+    /// ([`YOUNG_PA_RANGE`], [`POISSON_RANGE`], [`SHEAR_MODULUS_PA_RANGE`],
+    /// [`FRICTION_RANGE`]): a unit slip is refused before the run instead
+    /// of ending it as a blow-up or a failed settling.
+    pub fn validate_material(&self) -> Result<()> {
+        plausible(
+            "young_pa",
+            self.young_pa,
+            YOUNG_PA_RANGE,
+            " Pa",
+            ": pascals — steel is 2.1e11 Pa; 210000 is MPa given as Pa",
+        )?;
+        plausible(
+            "poisson",
+            self.poisson,
+            POISSON_RANGE,
+            "",
+            ": a ratio, not a percentage — steel is 0.3",
+        )?;
+        if let Some(g) = self.shear_modulus_pa {
+            plausible(
+                "shear_modulus_pa",
+                g,
+                SHEAR_MODULUS_PA_RANGE,
+                " Pa",
+                ": pascals — steel is 8.1e10 Pa",
+            )?;
+        }
+        plausible(
+            "friction",
+            self.friction,
+            FRICTION_RANGE,
+            "",
+            ": a coefficient, not a percentage — dry rail is about 0.3",
+        )
+    }
+}
+
 fn default_non_hertzian() -> NonHertzianMode {
     NonHertzianMode::Stop
 }
@@ -640,18 +720,8 @@ impl Scene {
                 "[contact] imported_table and shear_modulus_pa go with method = \"imported\" only"
             );
         }
-        if let Some(g) = c.shear_modulus_pa {
-            ensure!(
-                g.is_finite() && g > 0.0,
-                "[contact] shear_modulus_pa = {g} must be finite and > 0"
-            );
-        }
+        c.validate_material()?;
         self.creep_law()?;
-        ensure!(
-            c.friction.is_finite() && c.friction >= 0.0 && c.friction <= 2.0,
-            "[contact] friction = {} must lie in [0, 2]",
-            c.friction
-        );
         ensure!(
             c.restitution > 0.0 && c.restitution <= 1.0,
             "[contact] restitution = {} must lie in (0, 1]",
@@ -922,6 +992,62 @@ mod tests {
             let chain = format!("{e:#}");
             assert!(chain.contains(what), "{o}: {chain}");
         }
+    }
+
+    #[test]
+    fn implausible_materials_are_refused_with_check_the_unit() {
+        let scene = |o: &str| LoadedScene::default_scene(&[o.into()]);
+        for (o, needle) in [
+            // MPa given as Pa: before, the settling failed on a flange
+            // 126 mm deep in its rail.
+            (
+                "contact.young_pa=210000",
+                "young_pa = 2.1e5 is outside the plausible 5e10 … 5e11 Pa",
+            ),
+            ("contact.young_pa=210", "young_pa = 2.1e2"),
+            // Before, a blow-up reported as a derailment.
+            ("contact.young_pa=1e30", "young_pa = 1e30"),
+            ("contact.young_pa=nan", "young_pa = NaN"),
+            (
+                "contact.poisson=30",
+                "poisson = 30 is outside the plausible 0.1 … 0.45",
+            ),
+            (
+                "contact.friction=30",
+                "friction = 30 is outside the plausible 0 … 1",
+            ),
+            ("contact.friction=-0.1", "friction = -0.1"),
+        ] {
+            let chain = format!("{:#}", scene(o).unwrap_err());
+            assert!(chain.contains(needle), "{o}: {chain}");
+            assert!(chain.contains("check the unit"), "{o}: {chain}");
+        }
+        // The ends of the ranges and steel itself pass.
+        for o in [
+            "contact.young_pa=5e10",
+            "contact.young_pa=5e11",
+            "contact.young_pa=2.1e11",
+            "contact.poisson=0.28",
+            "contact.friction=0",
+            "contact.friction=0.6",
+        ] {
+            scene(o).unwrap_or_else(|e| panic!("{o}: {e:#}"));
+        }
+        let cooperrider = ContactSection {
+            method: ContactMethodKind::Imported,
+            shear_modulus_pa: Some(1.4384e11),
+            ..ContactSection::default()
+        };
+        cooperrider.validate_material().expect("DYTSI's G");
+        let mpa = ContactSection {
+            shear_modulus_pa: Some(81000.0),
+            ..ContactSection::default()
+        };
+        let e = format!("{:#}", mpa.validate_material().unwrap_err());
+        assert!(
+            e.contains("shear_modulus_pa = 8.1e4") && e.contains("check the unit"),
+            "{e}"
+        );
     }
 
     #[test]

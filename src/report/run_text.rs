@@ -65,7 +65,7 @@ impl RunSummary {
             );
         }
         for w in &self.wheelsets {
-            s += &crate::run::diagnostics::nadal_text(&w.name, &w.nadal);
+            s += &crate::run::nadal::nadal_text(&w.name, &w.nadal);
         }
         s += &self.fallbacks.to_text();
         if let Some(st) = &self.stopped {
@@ -86,6 +86,9 @@ impl RunSummary {
                 "cached".into()
             }
         );
+        for w in &self.warnings {
+            s += &format!("  WARNING ({}): {}\n", w.short(), w.message);
+        }
         s
     }
 }

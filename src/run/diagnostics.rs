@@ -19,14 +19,12 @@
 //!   where the geometry is not Hertzian
 //!   (`runtime::multibody::contact_force::NonHertzianPolicy`; the default `stop` ends
 //!   the run with the diagnostic instead).
-//! - **Nadal's criterion** per wheel ([`runtime::contact::nadal`]): the
-//!   largest Y/Q of the samples and of its sliding mean over 2 m of track
-//!   (EN 14363 judges the quotient so: an impact's spike of a few
-//!   milliseconds does not climb a flange), the wheel's limit
-//!   (tan γ − μ)/(1 + μ tan γ) for its steepest flange angle γ, the time
-//!   spent above it, and a "derailment risk" flag when the 2 m mean
-//!   exceeds the limit — or, for a run shorter than 2 m (or at
-//!   standstill), when any sample does.
+//! - **Numerical blow-ups** are told from derailments
+//!   ([`crate::run::blow_up`]): a failure whose state or energy balance
+//!   shows the integration running away is reported as such, with its
+//!   likely cause, not as the derailment its |y| may look like.
+//! - **Nadal's criterion** per wheel: [`crate::run::nadal`]; the
+//!   **warnings** of a run that completed: [`crate::run::warnings`].
 //!
 //! The integrator's step and rejection counts and the fallback counts are
 //! also written as root attributes of the results file
@@ -41,7 +39,6 @@ use runtime::multibody::body::BodyState;
 use runtime::multibody::contact_force::ContactForceError;
 use runtime::multibody::track_motion::{project_s, track_relative, track_rotation};
 use runtime::multibody::{DynamicsError, VehicleSystem};
-use runtime::results::{WHEEL_GROUPS, WheelsetSeries};
 use serde::Serialize;
 
 /// A [`VehicleSystem`] that remembers the last state it was evaluated at
@@ -85,8 +82,12 @@ impl<'s, 'a> Watched<'s, 'a> {
     }
 
     /// The diagnostic of a failed integration at the last state.
-    pub fn diagnose(&self, error: &IntegratorError<DynamicsError>) -> RunDiagnostic {
-        diagnose(error, self.system, self.last_state())
+    pub fn diagnose(
+        &self,
+        error: &IntegratorError<DynamicsError>,
+        context: &DiagnoseContext<'_>,
+    ) -> RunDiagnostic {
+        diagnose(error, self.system, self.last_state(), context)
     }
 }
 
@@ -206,6 +207,15 @@ pub struct RunDiagnostic {
     pub zone: Option<String>,
     /// The named wheelset's state, or every wheelset's when none is named.
     pub states: Vec<WheelsetState>,
+    /// Signs of a numerical blow-up in the failing state
+    /// ([`crate::run::blow_up`]); empty when there are none.
+    pub blow_up_signs: Vec<String>,
+    /// The likely cause and what to do, where the kind tells it (a
+    /// blow-up, a flange passed through, a step size collapse).
+    pub likely_cause: Option<String>,
+    /// |y| passed the derailment limit with the flange search off and no
+    /// sign of a blow-up: the wheelset ran through its flange.
+    pub ran_through_flange: bool,
     /// The error itself.
     pub detail: String,
 }
@@ -229,8 +239,72 @@ impl RunDiagnostic {
         if self.states.is_empty() {
             s += "; state unavailable (not finite or off the track tables)";
         }
+        if !self.blow_up_signs.is_empty() {
+            s += &format!(
+                "; signs of a numerical blow-up: {}",
+                self.blow_up_signs.join("; ")
+            );
+        }
+        if let Some(c) = &self.likely_cause {
+            s += &format!("; likely cause: {c}");
+        }
         s
     }
+
+    /// Whether the failure is a numerical blow-up (signs were found).
+    pub fn is_blow_up(&self) -> bool {
+        !self.blow_up_signs.is_empty()
+    }
+
+    /// Whether a failure of the derailment check is no derailment: a
+    /// blow-up, or a flange run through its rail with the search off.
+    pub fn is_not_a_derailment(&self) -> bool {
+        self.is_blow_up() || self.ran_through_flange
+    }
+}
+
+/// What [`diagnose`] needs besides the system: the method (for the
+/// advice), what each wheelset's state is compared with, the energy
+/// balance at the last accepted state, and whether the flange search was
+/// off (online contact).
+#[derive(Debug, Clone)]
+pub struct DiagnoseContext<'m> {
+    pub method: &'m runtime::integrators::Method,
+    pub references: Vec<crate::run::blow_up::WheelsetReference>,
+    pub energy: Option<crate::run::summary::EnergySummary>,
+    pub flange_off: bool,
+}
+
+/// The [`crate::run::blow_up::WheelsetReference`] of every wheelset of
+/// `system`, with the last sample of `results` (if any).
+pub fn wheelset_references(
+    system: &VehicleSystem<'_>,
+    results: &runtime::results::RunResults,
+) -> Vec<crate::run::blow_up::WheelsetReference> {
+    use runtime::geometry::track::Side;
+    let t_last = results.time_s.last().copied();
+    system
+        .vehicle()
+        .wheelsets
+        .iter()
+        .enumerate()
+        .map(|(i, w)| {
+            let wheels = Side::BOTH.map(|side| w.contact.wheel(side));
+            crate::run::blow_up::WheelsetReference {
+                name: w.name.clone(),
+                rolling_height_m: wheels[0]
+                    .nominal_radius_m()
+                    .max(wheels[1].nominal_radius_m()),
+                flange_depth_m: wheels[0].flange_depth_m().max(wheels[1].flange_depth_m()),
+                last_sample: t_last.zip(
+                    results
+                        .wheelsets
+                        .get(i)
+                        .and_then(|s| s.speed_m_s.last().copied()),
+                ),
+            }
+        })
+        .collect()
 }
 
 /// What a dynamics error names: kind, time (s), wheelset, and (wheel,
@@ -306,11 +380,13 @@ fn classify(e: &DynamicsError) -> Classified {
 }
 
 /// The diagnostic of a failed integration, `last` the last state the system
-/// was evaluated at (time s, state).
+/// was evaluated at (time s, state); a numerical blow-up is told from a
+/// derailment ([`crate::run::blow_up`]).
 pub fn diagnose(
     error: &IntegratorError<DynamicsError>,
     system: &VehicleSystem<'_>,
     last: Option<(f64, &[f64])>,
+    context: &DiagnoseContext<'_>,
 ) -> RunDiagnostic {
     let (kind, t, wheelset, at) = match error {
         IntegratorError::System(e) => classify(e),
@@ -339,17 +415,86 @@ pub fn diagnose(
         Some(name) => names.iter().position(|n| n == name).into_iter().collect(),
         None => (0..names.len()).collect(),
     };
-    let states = match last {
-        Some((_, y)) => which
-            .iter()
-            .filter_map(|&i| wheelset_state(system, i, y))
+    // Every wheelset's state, for the signs of a blow-up.
+    let all: Vec<(usize, Option<WheelsetState>)> = match last {
+        Some((_, y)) => (0..names.len())
+            .map(|i| (i, wheelset_state(system, i, y)))
             .collect(),
         None => Vec::new(),
+    };
+    let states: Vec<WheelsetState> = all
+        .iter()
+        .filter(|(i, _)| which.contains(i))
+        .filter_map(|(_, s)| s.clone())
+        .collect();
+    let finite: Vec<WheelsetState> = all.iter().filter_map(|(_, s)| s.clone()).collect();
+    // A state off the tables is no sign by itself; one that is not finite is.
+    let missing: Vec<String> = all
+        .iter()
+        .filter(|(i, s)| {
+            s.is_none()
+                && last.is_some_and(|(_, y)| {
+                    y.get(BodyState::slot(*i))
+                        .is_some_and(|v| v.iter().any(|x| !x.is_finite()))
+                })
+        })
+        .map(|(i, _)| names[*i].to_string())
+        .collect();
+    let mut signs = crate::run::blow_up::blow_up_signs(
+        t_s,
+        &finite,
+        &missing,
+        &context.references,
+        context.energy.as_ref(),
+    );
+    let non_finite = matches!(error, IntegratorError::NonFinite { .. })
+        || matches!(
+            error,
+            IntegratorError::System(DynamicsError::Force {
+                source: ContactForceError::Hertz {
+                    source: HertzError::NonFiniteCurvature { .. },
+                    ..
+                },
+                ..
+            })
+        );
+    if non_finite && signs.is_empty() {
+        signs.push(kind.clone());
+    }
+    let derailed = matches!(
+        error,
+        IntegratorError::System(DynamicsError::Derailed { .. })
+    );
+    let advice = crate::run::warnings::step_advice(context.method);
+    let (kind, likely_cause) = if !signs.is_empty() {
+        (
+            if derailed {
+                "numerical blow-up, not a derailment (|y| passed the derailment limit, but not by a flange climb)".to_string()
+            } else {
+                format!("numerical blow-up (then: {kind})")
+            },
+            Some(format!(
+                "a step too large for the stiffest mode (contact stiffness, creep damping at low speed) or a stiffness in the wrong unit: {advice}; check the units of [contact] young_pa and of the vehicle file's stiffnesses and masses"
+            )),
+        )
+    } else if derailed && context.flange_off {
+        (
+            "ran through its flange with the flange search off, not a derailment (|y| passed the derailment limit without flange contact)".to_string(),
+            Some("the flange search is off: set contact.flange = \"auto\" (or \"on\")".to_string()),
+        )
+    } else if matches!(error, IntegratorError::StepSizeTooSmall { .. }) {
+        (
+            kind,
+            Some("a stiffness or damping far beyond a steel contact's (check the units of [contact] young_pa and of the vehicle file's stiffnesses), or a discontinuity the step cannot pass".to_string()),
+        )
+    } else {
+        (kind, None)
     };
     let (wheel, zone) = match at {
         Some((w, z)) => (Some(w), Some(z)),
         None => (None, None),
     };
+    let ran_through_flange = derailed && context.flange_off && signs.is_empty();
     RunDiagnostic {
         kind,
         t_s,
@@ -357,146 +502,11 @@ pub fn diagnose(
         wheel,
         zone,
         states,
+        blow_up_signs: signs,
+        likely_cause,
+        ran_through_flange,
         detail: format!("{error}"),
     }
-}
-
-/// Length of track over which Y/Q is averaged for the derailment flag (m),
-/// EN 14363.
-pub const NADAL_WINDOW_M: f64 = 2.0;
-
-/// Nadal's criterion for one wheel of a run (module docs).
-#[derive(Debug, Clone, Serialize, PartialEq)]
-pub struct WheelNadal {
-    /// "left" / "right".
-    pub wheel: String,
-    /// Largest Y/Q of the samples (Y + towards the track centre), and when.
-    pub max_y_over_q: Option<f64>,
-    pub max_at_s: Option<f64>,
-    /// Largest sliding mean of Y/Q over [`NADAL_WINDOW_M`] of travel (the
-    /// samples with contact in the trailing window); `None` when the run
-    /// covers less than that.
-    pub max_y_over_q_2m: Option<f64>,
-    /// Steepest flange angle γ (deg), friction μ and the limit
-    /// (tan γ − μ)/(1 + μ tan γ); `None` for a wheel without a flange.
-    pub flange_angle_deg: Option<f64>,
-    pub friction: Option<f64>,
-    pub nadal_limit: Option<f64>,
-    /// Time with Y/Q above the limit (s, from the samples).
-    pub time_above_limit_s: f64,
-    /// The 2 m mean exceeded the limit (module docs).
-    pub derailment_risk: bool,
-}
-
-/// Largest trailing mean of the finite `values` over `window_m` of
-/// `distance_m` (non-decreasing), over the samples whose window is
-/// complete; `None` when none is.
-fn max_sliding_mean(values: &[f64], distance_m: &[f64], window_m: f64) -> Option<f64> {
-    let start = *distance_m.first()?;
-    let mut best: Option<f64> = None;
-    let mut lo = 0;
-    let (mut sum, mut count) = (0.0, 0usize);
-    for (i, (&v, &d)) in values.iter().zip(distance_m).enumerate() {
-        if v.is_finite() {
-            sum += v;
-            count += 1;
-        }
-        while lo < i && distance_m[lo] <= d - window_m {
-            if values[lo].is_finite() {
-                sum -= values[lo];
-                count -= 1;
-            }
-            lo += 1;
-        }
-        if d - start >= window_m && count > 0 {
-            let mean = sum / count as f64;
-            best = Some(best.map_or(mean, |b: f64| b.max(mean)));
-        }
-    }
-    best
-}
-
-/// Nadal's criterion for both wheels of a wheelset's series.
-pub fn nadal_summary(w: &WheelsetSeries, time_s: &[f64]) -> Vec<WheelNadal> {
-    let dt = |i: usize| match (time_s.get(i), time_s.get(i + 1)) {
-        (Some(a), Some(b)) => b - a,
-        _ => 0.0,
-    };
-    w.wheels
-        .iter()
-        .zip(WHEEL_GROUPS)
-        .map(|(wheel, name)| {
-            let max = wheel
-                .y_over_q
-                .iter()
-                .enumerate()
-                .filter(|(_, v)| v.is_finite())
-                .max_by(|a, b| a.1.total_cmp(b.1));
-            let limit = wheel.nadal.map(|n| n.limit);
-            let max_2m = max_sliding_mean(&wheel.y_over_q, &w.distance_m, NADAL_WINDOW_M);
-            let judged = max_2m.or(max.map(|(_, v)| *v));
-            let time_above_limit_s = match limit {
-                Some(l) => {
-                    0.0 + wheel
-                        .y_over_q
-                        .iter()
-                        .enumerate()
-                        .filter(|(_, v)| **v > l)
-                        .map(|(i, _)| dt(i))
-                        .sum::<f64>()
-                }
-                None => 0.0,
-            };
-            WheelNadal {
-                wheel: name.to_string(),
-                max_y_over_q: max.map(|(_, v)| *v),
-                max_at_s: max.and_then(|(i, _)| time_s.get(i).copied()),
-                flange_angle_deg: wheel.nadal.map(|n| n.flange_angle_rad.to_degrees()),
-                friction: wheel.nadal.map(|n| n.friction),
-                nadal_limit: limit,
-                time_above_limit_s,
-                max_y_over_q_2m: max_2m,
-                derailment_risk: matches!((judged, limit), (Some(m), Some(l)) if m > l),
-            }
-        })
-        .collect()
-}
-
-/// One line per wheelset: Y/Q against the limit.
-pub fn nadal_text(name: &str, wheels: &[WheelNadal]) -> String {
-    let mut s = format!("  wheelset {name}: max Y/Q");
-    for (k, w) in wheels.iter().enumerate() {
-        let mut value = w
-            .max_y_over_q
-            .map_or("—".to_string(), |v| format!("{v:.3}"));
-        if let Some(m) = w.max_y_over_q_2m {
-            value += &format!(" (2 m mean {m:.3})");
-        }
-        let limit = w.nadal_limit.map_or("no flange".to_string(), |l| {
-            format!(
-                "Nadal limit {l:.3} at {:.1}°, μ {}",
-                w.flange_angle_deg.unwrap_or(f64::NAN),
-                w.friction.unwrap_or(f64::NAN)
-            )
-        });
-        s += &format!(
-            "{} {} {value} ({limit})",
-            if k == 0 { "" } else { ";" },
-            w.wheel
-        );
-        if w.derailment_risk {
-            s += &format!(
-                " — DERAILMENT RISK: above the limit for {:.3} s",
-                w.time_above_limit_s
-            );
-        } else if w.time_above_limit_s > 0.0 {
-            s += &format!(
-                " — peaks above the limit for {:.3} s, 2 m mean below",
-                w.time_above_limit_s
-            );
-        }
-    }
-    s + "\n"
 }
 
 /// Fallbacks the run went through (module docs).
@@ -611,21 +621,6 @@ mod tests {
     use super::*;
 
     #[test]
-    fn sliding_mean_over_distance() {
-        // 0.5 m between samples: a window (d − 2 m, d] holds 4 samples.
-        let d: Vec<f64> = (0..10).map(|k| 0.5 * k as f64).collect();
-        let mut v = vec![1.0; 10];
-        v[6] = 6.0; // a spike: the windows holding it average (6 + 3·1)/4
-        v[2] = f64::NAN; // no contact: left out of its windows
-        let m = max_sliding_mean(&v, &d, 2.0).unwrap();
-        assert!((m - 2.25).abs() < 1e-12, "{m}");
-        // Shorter than the window: nothing to judge.
-        assert_eq!(max_sliding_mean(&v[..3], &d[..3], 2.0), None);
-        // Standstill: no window ever completes.
-        assert_eq!(max_sliding_mean(&v, &[0.0; 10], 2.0), None);
-    }
-
-    #[test]
     fn headline_names_time_wheel_zone_and_state() {
         let d = RunDiagnostic {
             kind: "non-Hertzian contact".into(),
@@ -643,6 +638,9 @@ mod tests {
                 forward_speed_m_s: 10.0,
                 lateral_speed_m_s: -0.04,
             }],
+            blow_up_signs: Vec::new(),
+            likely_cause: None,
+            ran_through_flange: false,
             detail: "…".into(),
         };
         let h = d.headline();

@@ -9,9 +9,12 @@
 //! failure (derailment, a contact that cannot be solved): the error is
 //! kept in [`RunOutcome::failure`] so that the results can be written first.
 
+pub mod blow_up;
 pub mod diagnostics;
+pub mod nadal;
 pub mod stream;
 pub mod summary;
+pub mod warnings;
 
 pub use summary::{EnergySummary, RunSummary, WheelsetSummary};
 
@@ -22,8 +25,8 @@ use std::time::Instant;
 use summary::wheelset_summaries;
 
 use anyhow::{Context, Result, anyhow};
-use runtime::integrators::{IntegrationStats, OutputGrid, integrate};
-use runtime::multibody::Recorder;
+use runtime::integrators::{IntegrationStats, IntegratorError, OutputGrid, integrate};
+use runtime::multibody::{DynamicsError, Recorder};
 use runtime::results::RunResults;
 
 use crate::config::scene::LoadedScene;
@@ -210,7 +213,25 @@ fn run_session(
         },
     );
     let wall_time_s = start.elapsed().as_secs_f64();
-    let diagnostic = outcome.as_ref().err().map(|e| watched.diagnose(e));
+    let energy = watched.energy_ledger().map(EnergySummary::from);
+    // The flange search off with online contact: nothing stops a flange
+    // from passing through its rail.
+    let flange_off = plan.flange == crate::config::scene::FlangeMode::Off
+        && plan.method == crate::config::scene::ContactMethodKind::Online;
+    let diagnostic = outcome.as_ref().err().map(|e| {
+        watched.diagnose(
+            e,
+            &crate::run::diagnostics::DiagnoseContext {
+                method: &integrator,
+                references: crate::run::diagnostics::wheelset_references(
+                    &watched,
+                    &recorder.results,
+                ),
+                energy: energy.clone(),
+                flange_off,
+            },
+        )
+    });
     let hertz_floor_evaluations = watched.hertz_floor_evaluations();
     if let Some(why) = tripped {
         return Ok(Attempt::Revise(format!(
@@ -232,10 +253,49 @@ fn run_session(
                 a
             });
     let track_end_reached = system.track_end_reached();
-    let energy = system.energy_ledger().map(EnergySummary::from);
+    let wheelsets = wheelset_summaries(&recorder.results);
+    let mut warnings = Vec::new();
+    if flange_off {
+        warnings.extend(flange_warnings(
+            &system,
+            &recorder.results,
+            plan,
+            &wheelsets,
+        ));
+    }
     drop(system);
+    for w in &wheelsets {
+        warnings.extend(crate::run::warnings::airborne(
+            &w.name,
+            &w.nadal,
+            scene.initial.speed_m_s,
+        ));
+    }
+    // A failed run's balance is the diagnostic's (a sign of a blow-up).
+    if outcome.is_ok()
+        && let Some(w) = energy
+            .as_ref()
+            .and_then(|e| crate::run::warnings::energy_residual(e, &integrator))
+    {
+        warnings.push(w);
+    }
     let (stats, error) = match outcome {
         Ok(s) => (Some(s), None),
+        // A blow-up's own words (or a flange run through): the runtime's
+        // error would call the |y| it reached a derailment.
+        Err(IntegratorError::System(DynamicsError::Derailed {
+            wheelset,
+            t_s,
+            lateral_mm,
+            limit_mm,
+        })) if diagnostic.as_ref().is_some_and(|d| d.is_not_a_derailment()) => (
+            None,
+            Some(anyhow!(
+                "{} at t = {t_s:.6} s: wheelset '{wheelset}' reached |y| = {:.1} mm, beyond the {limit_mm:.1} mm of the derailment check",
+                diagnostic.as_ref().map_or("", |d| d.kind.as_str()),
+                lateral_mm.abs()
+            )),
+        ),
         Err(e) => (None, Some(anyhow!(e))),
     };
     // The last samples to the sink, and the view of all of them in place
@@ -284,12 +344,19 @@ fn run_session(
         (
             "status".into(),
             match (&error, &stopped) {
-                (Some(e), _) => format!("failed: {e}"),
+                (Some(e), _) => match diagnostic.as_ref().and_then(|d| d.likely_cause.as_ref()) {
+                    Some(c) => format!("failed: {e} (likely cause: {c})"),
+                    None => format!("failed: {e}"),
+                },
                 // Ctrl-C: the file holds a partial run, and says so first.
                 (None, Some(s)) if s == INTERRUPTED => INTERRUPTED.to_string(),
                 (None, Some(s)) => format!("stopped: {s}"),
-                (None, None) => "completed".into(),
+                (None, None) => crate::run::warnings::completed_status(&warnings),
             },
+        ),
+        (
+            "warnings".into(),
+            crate::run::warnings::warnings_attribute(&warnings),
         ),
     ];
     let fallbacks = crate::run::diagnostics::FallbackCounts::count(
@@ -339,10 +406,11 @@ fn run_session(
         cold_starts: stats_solvers.cold_starts,
         flange_searches_skipped: stats_solvers.flange_skipped + stats_solvers.clear_skipped,
         flange_contact_states: counters.flange_contact_states,
-        wheelsets: wheelset_summaries(&results),
+        wheelsets,
         fallbacks,
         energy,
         stopped,
+        warnings,
         error: error.as_ref().map(crate::error_text::chain_text),
         track: session.track_source.clone(),
         plan: plan.clone(),
@@ -357,4 +425,30 @@ fn run_session(
         summary,
         failure,
     })))
+}
+
+/// The flange warnings of a run with the flange search off
+/// ([`warnings::flange_passage`]). The clearances are measured only when a
+/// wheelset went beyond the smallest clearance the planner knows (or when
+/// it knows none).
+fn flange_warnings(
+    system: &runtime::multibody::VehicleSystem<'_>,
+    results: &RunResults,
+    plan: &crate::session::plan::Plan,
+    wheelsets: &[WheelsetSummary],
+) -> Vec<warnings::RunWarning> {
+    let known = plan
+        .flange_facts
+        .map(|f| f.clearance_m)
+        .filter(|c| c.is_finite());
+    if known.is_some_and(|c| wheelsets.iter().all(|w| w.peak_lateral_mm * 1e-3 <= c)) {
+        return Vec::new();
+    }
+    match warnings::clearances(system) {
+        Ok(c) => warnings::flange_passage(results, &c),
+        Err(why) => vec![warnings::check_failed(
+            "the flange passage (flange search off)",
+            &why,
+        )],
+    }
 }

@@ -24,8 +24,9 @@ pub struct WheelsetSummary {
     pub flange_contact_right_s: f64,
     /// Number of separate flange contacts (onsets in the samples).
     pub flange_contact_events: u64,
-    /// Nadal's criterion per wheel, left then right ([`crate::run::diagnostics`]).
-    pub nadal: Vec<crate::run::diagnostics::WheelNadal>,
+    /// Nadal's criterion per wheel, left then right, with the fraction of
+    /// samples each wheel was airborne ([`crate::run::nadal`]).
+    pub nadal: Vec<crate::run::nadal::WheelNadal>,
 }
 
 /// The energy bookkeeping of a run (J;
@@ -113,6 +114,9 @@ pub struct RunSummary {
     /// Why the run ended before its end time: "interrupted" (Ctrl-C),
     /// "end of track"; `None` when it completed.
     pub stopped: Option<String>,
+    /// What the results show to be doubtful ([`crate::run::warnings`]);
+    /// also in the results' `status` and `warnings` attributes.
+    pub warnings: Vec<crate::run::warnings::RunWarning>,
     /// The error that ended the run, if any (the results so far are written).
     pub error: Option<String>,
     pub track: TrackSource,
@@ -165,7 +169,7 @@ pub(crate) fn wheelset_summaries(r: &RunResults) -> Vec<WheelsetSummary> {
                 flange_contact_left_s: time_in(&w.wheels[0].flange_contact),
                 flange_contact_right_s: time_in(&w.wheels[1].flange_contact),
                 flange_contact_events: events,
-                nadal: crate::run::diagnostics::nadal_summary(w, &r.time_s),
+                nadal: crate::run::nadal::nadal_summary(w, &r.time_s),
             }
         })
         .collect()

@@ -849,9 +849,21 @@ fn contact_soft_and_stiff_materials() {
         assert!((delta / (d_ref * s.powf(-2.0 / 3.0)) - 1.0).abs() < 1e-3);
         assert!((a / (a_ref * s.powf(-1.0 / 3.0)) - 1.0).abs() < 1e-3);
     }
-    // Short runs at both ends of the range (DOPRI5 adapts its step to the
-    // contact stiffness).
+    // A scene refuses moduli outside the plausible 50–500 GPa (a unit
+    // slip: src/config/scene.rs YOUNG_PA_RANGE); short runs at both ends of
+    // that range (DOPRI5 adapts its step to the contact stiffness).
     for young in ["1e9", "1e13"] {
+        let o = run(sim()
+            .env("RAILSIM_CACHE_DIR", dir.join("cache"))
+            .arg("run")
+            .arg(shipped("scenes/wheelset_straight.toml"))
+            .args(["--no-plots", "-o"])
+            .arg(dir.join("refused.h5"))
+            .args(["--set", &format!("contact.young_pa={young}")]));
+        assert!(!o.status.success(), "E = {young} Pa");
+        assert!(stderr(&o).contains("check the unit"), "{}", stderr(&o));
+    }
+    for young in ["5e10", "5e11"] {
         let r = sim_run(
             &dir,
             &format!("young_{young}"),
