@@ -92,9 +92,9 @@ impl Irregularities {
 /// re-interpolated through them with the same not-a-knot cubic, must
 /// reproduce every sample of the file on the track within
 /// [`UNRESOLVED_IRREGULARITY_M`]. Otherwise the file is refused at the
-/// worst sample: the rails would follow content the tables cannot show
-/// (they would come out longer than the track, and the table would show
-/// irregularities that are not the file's).
+/// first sample (lowest s) that is not: the rails would follow content
+/// the tables cannot show (they would come out longer than the track,
+/// and the table would show irregularities that are not the file's).
 pub fn check_resolved(
     input: &IrregularityInput,
     irr: &Irregularities,
@@ -107,7 +107,10 @@ pub fn check_resolved(
     }
     let nodes = grid(track_length_m, step_m);
     // (residual, component, row)
-    let mut worst = (0.0_f64, 0, 0);
+    // The first sample (lowest s) off by more than the bound, as
+    // (row, component, residual), and the largest residual of the file.
+    let mut first: Option<(usize, usize, f64)> = None;
+    let mut largest = 0.0_f64;
     for (c, spline) in irr.splines.iter().enumerate() {
         let (lo, hi) = irr.s_range;
         let at_nodes: Vec<f64> = nodes
@@ -129,15 +132,15 @@ pub fn check_resolved(
                 continue;
             }
             let r = (refit.value(s) - v).abs();
-            if r > worst.0 {
-                worst = (r, c, k);
+            largest = largest.max(r);
+            if r > UNRESOLVED_IRREGULARITY_M && first.is_none_or(|(k0, _, _)| k < k0) {
+                first = Some((k, c, r));
             }
         }
     }
-    let (residual, c, k) = worst;
-    if residual <= UNRESOLVED_IRREGULARITY_M {
+    let Some((k, c, residual)) = first else {
         return Ok(());
-    }
+    };
     // The spacing to a micrometre, as a user would type it.
     let spacing = (spacing * 1e6).round() / 1e6;
     Err(InputError::at_value(
@@ -145,11 +148,12 @@ pub fn check_resolved(
         input.lines[k],
         input.sources[c].column,
         format!(
-            "{} varies between the rows of the {step_m} m table step: re-interpolated from the table's rows it is off by {:.3} mm at s = {} m (more than {} mm). The file is sampled every {spacing} m and holds wavelengths shorter than 2 × step = {} m, which the table cannot represent (sampling theorem). Use --step {spacing} or finer, or low-pass filter the file to wavelengths of 2 × step and longer",
+            "{} varies between the rows of the {step_m} m table step: re-interpolated from the table's rows it is off by {:.3} mm at s = {} m (more than {} mm; up to {:.3} mm in the file). The file is sampled every {spacing} m and holds wavelengths shorter than 2 × step = {} m, which the table cannot represent (sampling theorem). Use --step {spacing} or finer, or low-pass filter the file to wavelengths of 2 × step and longer",
             input.sources[c].what,
             residual * 1e3,
             input.s_m[k],
             UNRESOLVED_IRREGULARITY_M * 1e3,
+            largest * 1e3,
             2.0 * step_m
         ),
     )
