@@ -150,7 +150,7 @@ fn every_bad_input_case_is_reported_cleanly() {
             cant: None,
             irregularities: None,
             extra: &[],
-            expect: &["line 4", "0.3 rad"],
+            expect: &["line 4, column 4", "0.1337 rad", "check the unit"],
             names: "centerline.csv",
         },
         Case {
@@ -159,7 +159,12 @@ fn every_bad_input_case_is_reported_cleanly() {
             cant: Some("s,cant_mm\n0,0\n2,100\n4,500\n5,0\n"),
             irregularities: None,
             extra: &[],
-            expect: &["line 4", "0.3 rad"],
+            expect: &[
+                "line 4, column 2",
+                "cant_mm = 500 mm",
+                "0.1337 rad",
+                "check the unit",
+            ],
             names: "cant.csv",
         },
         Case {

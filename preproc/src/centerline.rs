@@ -3,9 +3,12 @@
 //! track distance (or a separate cant table), and the track frame of
 //! docs/reference/03-track-preproc.md §3c at every s.
 
-use runtime::geometry::spline::{PiecewiseCubic, Scheme};
+use std::path::{Path, PathBuf};
+
+use runtime::geometry::spline::{PiecewiseCubic, Scheme, SplineError};
 use runtime::geometry::track::Frame;
 
+use crate::bounds::MIN_CURVE_RADIUS_M;
 use crate::error::{BuildError, InputError};
 use crate::inputs::{CantInput, CenterlineInput};
 use crate::space_curve::{CurveError, CurvePoint, SpaceCurve};
@@ -34,11 +37,23 @@ enum Cant {
     Spline { spline: PiecewiseCubic, s_max: f64 },
 }
 
+/// The largest |cant| of the input and where it is, to tell a cant the
+/// input asked for from a spline's overshoot (docs/reference/03-track-preproc.md §3g).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CantPeak {
+    /// |φ| (rad).
+    pub cant_rad: f64,
+    pub path: PathBuf,
+    /// 1-based line of the value.
+    pub line: usize,
+}
+
 /// The fitted centreline.
 #[derive(Debug, Clone)]
 pub struct Centerline {
     curve: SpaceCurve,
     cant: Cant,
+    cant_peak: Option<CantPeak>,
 }
 
 impl Centerline {
@@ -46,6 +61,8 @@ impl Centerline {
     /// given (it overrides a cant column of the centreline file), else from
     /// the centreline's own cant column, else zero. Cant uses the same scheme
     /// as the centreline (use `pchip` for cant ramps without overshoot).
+    /// The fitted curve's radius must nowhere be below
+    /// [`MIN_CURVE_RADIUS_M`].
     pub fn build(
         input: &CenterlineInput,
         cant_table: Option<&CantInput>,
@@ -53,8 +70,9 @@ impl Centerline {
         cant_base_m: f64,
     ) -> Result<Self, BuildError> {
         let curve = SpaceCurve::fit(scheme, &input.points).map_err(|e| curve_error(input, e))?;
+        check_radius(input, &curve)?;
         let length = curve.length();
-        let cant = if let Some(table) = cant_table {
+        let (cant, cant_peak) = if let Some(table) = cant_table {
             let (lo, hi) = (table.s_m[0], table.s_m[table.s_m.len() - 1]);
             if lo > COVERAGE_TOLERANCE_M || hi < length - COVERAGE_TOLERANCE_M {
                 return Err(InputError::new(
@@ -67,14 +85,35 @@ impl Centerline {
                 .into());
             }
             let phi = table.cant.radians(cant_base_m)?;
-            spline_cant(scheme, &table.s_m, &phi, &table.path)?
+            (
+                spline_cant(scheme, &table.s_m, &phi, &table.path, table.cant.lines())?,
+                cant_peak(&phi, table.cant.lines(), &table.path),
+            )
         } else if let Some(col) = &input.cant {
             let phi = col.radians(cant_base_m)?;
-            spline_cant(scheme, curve.knot_arc_lengths(), &phi, &input.path)?
+            (
+                spline_cant(
+                    scheme,
+                    curve.knot_arc_lengths(),
+                    &phi,
+                    &input.path,
+                    col.lines(),
+                )?,
+                cant_peak(&phi, col.lines(), &input.path),
+            )
         } else {
-            Cant::Zero
+            (Cant::Zero, None)
         };
-        Ok(Self { curve, cant })
+        Ok(Self {
+            curve,
+            cant,
+            cant_peak,
+        })
+    }
+
+    /// The largest |cant| of the input, if it has a cant.
+    pub fn cant_peak(&self) -> Option<&CantPeak> {
+        self.cant_peak.as_ref()
     }
 
     /// Length of the centreline (m).
@@ -127,16 +166,69 @@ fn spline_cant(
     scheme: Scheme,
     s: &[f64],
     phi: &[f64],
-    path: &std::path::Path,
+    path: &Path,
+    lines: &[usize],
 ) -> Result<Cant, BuildError> {
-    let spline = PiecewiseCubic::fit(scheme, s, phi).map_err(|source| BuildError::Spline {
-        what: format!("{}: cant spline", path.display()),
-        source,
-    })?;
+    let spline = PiecewiseCubic::fit(scheme, s, phi)
+        .map_err(|source| spline_error(path, lines, "cant spline", source))?;
     Ok(Cant::Spline {
         s_max: s[s.len() - 1],
         spline,
     })
+}
+
+/// The input's largest |cant| (the first, if several are equal).
+fn cant_peak(phi: &[f64], lines: &[usize], path: &Path) -> Option<CantPeak> {
+    crate::inputs::peak(phi).map(|(k, cant_rad)| CantPeak {
+        cant_rad,
+        path: path.to_path_buf(),
+        line: lines[k],
+    })
+}
+
+/// Refuse a centreline that bends more sharply than a radius of
+/// [`MIN_CURVE_RADIUS_M`] anywhere (checked on the fitted curve, so a
+/// spline's overshoot counts too), naming the control points around it.
+fn check_radius(input: &CenterlineInput, curve: &SpaceCurve) -> Result<(), BuildError> {
+    let bend = curve.sharpest_bend();
+    if bend.curvature_1_m * MIN_CURVE_RADIUS_M <= 1.0 {
+        return Ok(());
+    }
+    let line = |i: usize| input.lines.get(i).copied();
+    Err(InputError::new(
+        &input.path,
+        line(bend.piece),
+        format!(
+            "the fitted centreline has a radius of curvature of {:.3} m at s = {:.3} m (between this control point and the next, line {}), below the {MIN_CURVE_RADIUS_M} m of the tightest tram curves (check the unit: coordinates are in metres; a 600 m curve written in km has a radius of 0.6 m)",
+            1.0 / bend.curvature_1_m,
+            bend.s_m,
+            line(bend.piece + 1).unwrap_or(0)
+        ),
+    )
+    .into())
+}
+
+/// A spline of values read from `path` that could not be fitted: at the
+/// line of the point the spline names, if it names one.
+pub(crate) fn spline_error(
+    path: &Path,
+    lines: &[usize],
+    what: &str,
+    source: SplineError,
+) -> BuildError {
+    let index = match &source {
+        SplineError::NonFinite { index, .. } | SplineError::NotIncreasing { index, .. } => {
+            Some(*index)
+        }
+        _ => None,
+    };
+    match index.and_then(|i| lines.get(i)) {
+        Some(&line) => InputError::new(path, Some(line), format!("{what}: {source}")).into(),
+        None => BuildError::Spline {
+            what: format!("{}: {what}", path.display()),
+            source,
+        },
+    }
 }
 
 /// Name the lines of the control points involved in a curve error.
@@ -158,9 +250,8 @@ pub(crate) fn curve_error(input: &CenterlineInput, e: CurveError) -> BuildError 
             ),
         )
         .into(),
-        CurveError::Spline(source) => BuildError::Spline {
-            what: format!("{}: centreline spline", input.path.display()),
-            source,
-        },
+        CurveError::Spline(source) => {
+            spline_error(&input.path, &input.lines, "centreline spline", source)
+        }
     }
 }

@@ -6,6 +6,10 @@ use std::str::FromStr;
 
 use runtime::geometry::spline::Scheme;
 
+use crate::bounds::{
+    CANT_BASE_RANGE_M, GAUGE_FACE_OFFSET_RANGE_M, GAUGE_RANGE_M, RAIL_SPACING_RANGE_M,
+    STEP_RANGE_M, within,
+};
 use crate::error::BuildError;
 
 /// Default table step Δs (m) (docs/reference/03-track-preproc.md §3g).
@@ -143,35 +147,38 @@ impl BuildConfig {
             .unwrap_or(self.gauge_m + CANT_BASE_OVER_GAUGE_M)
     }
 
-    /// Check every rule; the message names the option and the rule.
+    /// Check every rule against its plausibility bound
+    /// ([`crate::bounds`]); the message names the option, the bound and
+    /// says "check the unit".
     pub fn validate(&self) -> Result<(), BuildError> {
-        let fail = |m: String| Err(BuildError::Config(m));
-        if !(self.step_m.is_finite() && self.step_m >= 1e-4 && self.step_m <= 10.0) {
-            return fail(format!(
-                "--step {} m must lie in 0.0001 … 10 m",
-                self.step_m
-            ));
-        }
-        if !(self.gauge_m.is_finite() && (0.3..=3.0).contains(&self.gauge_m)) {
-            return fail(format!("--gauge {} m must lie in 0.3 … 3 m", self.gauge_m));
-        }
-        let sp = self.rail_spacing_m();
-        if !(sp.is_finite() && sp > 0.2 && sp < 4.0) {
-            return fail(format!("rail spacing {sp} m must lie in 0.2 … 4 m"));
-        }
+        let check = |what: &str, value: f64, range: (f64, f64)| {
+            if within(value, range) {
+                Ok(())
+            } else {
+                Err(BuildError::Config(format!(
+                    "{what} {value} m is outside the plausible {} … {} m (check the unit: metres)",
+                    range.0, range.1
+                )))
+            }
+        };
+        check("--step", self.step_m, STEP_RANGE_M)?;
+        check("--gauge", self.gauge_m, GAUGE_RANGE_M)?;
         if let RailSpacing::FromGauge {
             gauge_face_offset_m,
         } = self.rail_spacing
-            && !(gauge_face_offset_m.is_finite() && (0.0..0.2).contains(&gauge_face_offset_m))
         {
-            return fail(format!(
-                "--gauge-face-offset {gauge_face_offset_m} m must lie in 0 … 0.2 m"
-            ));
+            check(
+                "--gauge-face-offset",
+                gauge_face_offset_m,
+                GAUGE_FACE_OFFSET_RANGE_M,
+            )?;
         }
-        let e0 = self.cant_base_m();
-        if !(e0.is_finite() && e0 > 0.2 && e0 < 4.0) {
-            return fail(format!("--cant-base {e0} m must lie in 0.2 … 4 m"));
-        }
+        check(
+            "rail spacing (--rail-spacing, or gauge + 2 × gauge-face offset)",
+            self.rail_spacing_m(),
+            RAIL_SPACING_RANGE_M,
+        )?;
+        check("--cant-base", self.cant_base_m(), CANT_BASE_RANGE_M)?;
         Ok(())
     }
 }
@@ -210,5 +217,44 @@ mod tests {
             ..Default::default()
         };
         assert!(bad.validate().unwrap_err().to_string().contains("--gauge"));
+    }
+
+    /// Millimetres given for metres are refused with "check the unit",
+    /// naming the option and the bound.
+    #[test]
+    fn options_in_the_wrong_unit() {
+        for (bad, option) in [
+            (
+                BuildConfig {
+                    gauge_m: 1435.0,
+                    ..Default::default()
+                },
+                "--gauge 1435 m is outside the plausible 0.5 … 2 m",
+            ),
+            (
+                BuildConfig {
+                    step_m: 100.0,
+                    ..Default::default()
+                },
+                "--step 100 m is outside the plausible 0.0001 … 10 m",
+            ),
+            (
+                BuildConfig {
+                    cant_base_m: Some(1500.0),
+                    ..Default::default()
+                },
+                "--cant-base 1500 m",
+            ),
+            (
+                BuildConfig {
+                    rail_spacing: RailSpacing::Explicit { spacing_m: 1507.0 },
+                    ..Default::default()
+                },
+                "rail spacing",
+            ),
+        ] {
+            let e = bad.validate().unwrap_err().to_string();
+            assert!(e.contains(option) && e.contains("check the unit"), "{e}");
+        }
     }
 }

@@ -4,13 +4,15 @@
 //! Read by the workspace's one table reader, [`runtime::io::csv`]; this
 //! module adds the pre-processor's rules (row counts, increasing columns,
 //! unit suffixes) and its error type. Every error names the file and the
-//! line.
+//! line, and the column where it is about one value. A UTF-8 byte-order
+//! mark is ignored; bytes that are not UTF-8 are an error at their line
+//! and column ([`read_text`]).
 
 use std::path::{Path, PathBuf};
 
 use runtime::io::csv::{CsvError, Separator};
 
-use crate::error::InputError;
+use crate::error::{BuildError, InputError};
 
 /// A numeric table read from a CSV file.
 #[derive(Debug, Clone, PartialEq)]
@@ -25,8 +27,20 @@ pub struct CsvTable {
 
 impl From<CsvError> for InputError {
     fn from(e: CsvError) -> Self {
-        InputError::new(e.path(), e.line(), e.rule())
+        match (e.line(), e.column()) {
+            (Some(line), Some(column)) => InputError::at_value(e.path(), line, column, e.rule()),
+            (line, _) => InputError::new(e.path(), line, e.rule()),
+        }
     }
+}
+
+/// The text of the input file `path`: UTF-8, or an error at the line and
+/// column of the first byte that is not (`runtime::io::csv::read_text`).
+pub fn read_text(path: &Path) -> Result<String, BuildError> {
+    runtime::io::csv::read_text(path).map_err(|e| match e {
+        CsvError::Read { path, source } => BuildError::Read { path, source },
+        other => BuildError::Input(other.into()),
+    })
 }
 
 impl CsvTable {
@@ -58,6 +72,12 @@ impl CsvTable {
     /// An error located at data row `row` (0-based).
     pub fn error_at(&self, row: usize, rule: impl Into<String>) -> InputError {
         InputError::new(&self.path, Some(self.line(row)), rule)
+    }
+
+    /// An error about the value in column `idx` (0-based, as
+    /// [`CsvTable::column`] returns it) of data row `row` (0-based).
+    pub fn error_at_value(&self, row: usize, idx: usize, rule: impl Into<String>) -> InputError {
+        InputError::at_value(&self.path, self.line(row), idx + 1, rule)
     }
 
     /// An error about the whole file.
@@ -137,20 +157,54 @@ mod tests {
         let e = parse("x,y,z\n1,2,3\n1,abc,3\n").unwrap_err();
         assert_eq!(
             e.to_string(),
-            "t.csv, line 3: column 'y': 'abc' is not a number"
+            "t.csv, line 3, column 2: column 'y': 'abc' is not a number"
         );
         let e = parse("x,y,z\n1,2\n").unwrap_err();
         assert!(e.to_string().contains("line 2: expected 3 values"), "{e}");
         let e = parse("x,y,z\n1,NaN,2\n").unwrap_err();
         assert!(e.to_string().contains("non-finite"), "{e}");
-        let e = parse("x,y,z\n1,inf,2\n").unwrap_err();
-        assert!(e.to_string().contains("non-finite"), "{e}");
+        let e = parse("x,y,z\n1,2,inf\n").unwrap_err();
+        assert!(
+            e.to_string().contains("line 2, column 3") && e.to_string().contains("non-finite"),
+            "{e}"
+        );
+        let e = parse("x,y,z\n1,1e999,2\n").unwrap_err();
+        assert!(e.to_string().contains("line 2, column 2"), "{e}");
         let e = parse("# only a comment\n").unwrap_err();
         assert!(e.to_string().contains("empty"), "{e}");
         let e = parse("1,2,3\n4,5,6\n").unwrap_err();
         assert!(e.to_string().contains("header"), "{e}");
         let e = parse("x,x\n1,2\n").unwrap_err();
         assert!(e.to_string().contains("twice"), "{e}");
+    }
+
+    /// A byte-order mark (before the header or before a first comment)
+    /// is not part of the first line; the columns read as without it.
+    #[test]
+    fn byte_order_mark() {
+        for text in [
+            "\u{feff}x,y\n1,2\n",
+            "\u{feff}# made on Windows\nx,y\n1,2\n",
+        ] {
+            let t = parse(text).unwrap();
+            assert_eq!(t.columns, ["x", "y"], "{text:?}");
+        }
+    }
+
+    /// A file that is not UTF-8 is refused at the line and column of its
+    /// first byte that is not.
+    #[test]
+    fn not_utf8_names_the_line_and_column() {
+        let dir = std::env::temp_dir().join(format!("preproc-csv-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let f = dir.join("latin1.csv");
+        std::fs::write(&f, b"x,y,z\n0,0,0\n1,0,0 \xb0\n").unwrap();
+        let e = read_text(&f).unwrap_err().to_string();
+        assert!(
+            e.contains("latin1.csv, line 3, column 7") && e.contains("not UTF-8"),
+            "{e}"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

@@ -1,6 +1,6 @@
 //! Errors of the pre-processor. Every input error names the file, the line
-//! (1-based, as an editor shows it) where there is one, and the rule broken
-//! (docs/reference/02-inputs.md §2).
+//! (1-based, as an editor shows it) and the column (1-based) where there
+//! are ones, and the rule broken (docs/reference/02-inputs.md §2).
 
 use std::fmt;
 use std::path::PathBuf;
@@ -14,14 +14,21 @@ pub struct Location {
     pub file: PathBuf,
     /// 1-based line number in the file, when the problem is on one line.
     pub line: Option<usize>,
+    /// 1-based column (field of a CSV row, or character of the line), when
+    /// the problem is one value.
+    pub column: Option<usize>,
 }
 
 impl fmt::Display for Location {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self.line {
-            Some(line) => write!(f, "{}, line {line}", self.file.display()),
-            None => write!(f, "{}", self.file.display()),
+        write!(f, "{}", self.file.display())?;
+        if let Some(line) = self.line {
+            write!(f, ", line {line}")?;
+            if let Some(column) = self.column {
+                write!(f, ", column {column}")?;
+            }
         }
+        Ok(())
     }
 }
 
@@ -39,6 +46,24 @@ impl InputError {
             location: Location {
                 file: file.into(),
                 line,
+                column: None,
+            },
+            rule: rule.into(),
+        }
+    }
+
+    /// An error about the value at `line`, `column` (both 1-based).
+    pub fn at_value(
+        file: impl Into<PathBuf>,
+        line: usize,
+        column: usize,
+        rule: impl Into<String>,
+    ) -> Self {
+        Self {
+            location: Location {
+                file: file.into(),
+                line: Some(line),
+                column: Some(column),
             },
             rule: rule.into(),
         }
@@ -74,6 +99,47 @@ pub enum BuildError {
         rows: f64,
         max: f64,
         hint: &'static str,
+    },
+    /// A built table's cant beyond [`crate::bounds::MAX_CANT_RAD`] though
+    /// the input is within it: the spline's overshoot (`input` says so,
+    /// with the input's peak and the remedy).
+    #[error(
+        "the built cant reaches {cant_rad:+.4} rad ({cant_mm:+.1} mm) at s = {s_m:.3} m, beyond the ±{bound_rad:.4} rad (200 mm on the standard cant base) of any track: {input}"
+    )]
+    BuiltCant {
+        s_m: f64,
+        cant_rad: f64,
+        cant_mm: f64,
+        bound_rad: f64,
+        input: String,
+    },
+    /// A built table's irregularity beyond
+    /// [`crate::bounds::MAX_IRREGULARITY_M`] though every value of the
+    /// file is within it: the not-a-knot spline's overshoot.
+    #[error(
+        "the built {component} reaches {:.1} mm at s = {s_m:.3} m, beyond the ±{:.0} mm of any track, though the file's values are within it: the cubic spline overshoots between the samples; sample the file more densely there",
+        value_m * 1e3,
+        bound_m * 1e3
+    )]
+    BuiltIrregularity {
+        component: &'static str,
+        s_m: f64,
+        value_m: f64,
+        bound_m: f64,
+    },
+    /// The centreline or a rail is longer or shorter than its table rows
+    /// resolve (docs/reference/03-track-preproc.md §3g).
+    #[error(
+        "the {what} is {built_m:.3} m long but its table rows resolve {resolved_m:.3} m (centreline {centreline_m:.3} m; difference {:.3} m, more than the {tolerance_m:.3} m allowed): the geometry varies between the rows of the {step_m} m step (irregularities, cant or control points closer than the step, with content shorter than 2 × step) and the tables cannot show it; use a finer --step or smooth the input",
+        (built_m - resolved_m).abs()
+    )]
+    Length {
+        what: &'static str,
+        built_m: f64,
+        resolved_m: f64,
+        centreline_m: f64,
+        tolerance_m: f64,
+        step_m: f64,
     },
     #[error("cannot read '{path}': {source}")]
     Read {

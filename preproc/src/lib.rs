@@ -46,6 +46,8 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod bounds;
+pub mod built;
 pub mod centerline;
 pub mod cli;
 pub mod config;

@@ -93,7 +93,7 @@ impl TrackModel {
         let irregularities = inputs
             .irregularities
             .as_ref()
-            .map(|i| Irregularities::build(i, centerline.length_m()))
+            .map(|i| Irregularities::build(i, centerline.length_m(), config.step_m))
             .transpose()?;
         let spacing = node_spacing_m(&centerline, irregularities.as_ref());
         check_size(centerline.length_m(), config.step_m, spacing)?;
@@ -127,7 +127,8 @@ impl TrackModel {
     }
 
     /// Sample the model every `config.step_m` into the centreline and rail
-    /// databases (in parallel chunks).
+    /// databases (in parallel chunks), and check what is built
+    /// ([`crate::built`]).
     pub fn tabulate(&self, progress: &dyn ProgressSink) -> Result<TrackTables, BuildError> {
         let step = self.config.step_m;
         let s_grid = grid(self.centerline.length_m(), step);
@@ -170,12 +171,23 @@ impl TrackModel {
         }
         let right = rails.pop().expect("two rails");
         let left = rails.pop().expect("two rails");
-        Ok(TrackTables {
+        let tables = TrackTables {
             meta: self.meta(),
             centerline,
             left,
             right,
-        })
+        };
+        self.check(&tables)?;
+        Ok(tables)
+    }
+
+    /// The checks on what is built ([`crate::built`]).
+    fn check(&self, tables: &TrackTables) -> Result<(), BuildError> {
+        crate::built::check_tables(
+            tables,
+            self.centerline.cant_peak(),
+            self.config.scheme.name(),
+        )
     }
 
     /// The tables over the stretch `[s_from_m, s_to_m]` of the centreline
@@ -185,7 +197,8 @@ impl TrackModel {
     /// [`TrackModel::tabulate`] computes them, so they equal the
     /// whole-track table's rows. Used for a run that covers only part of a
     /// long track (`sim run`'s planner). `tool` names the producer in the
-    /// tables' metadata.
+    /// tables' metadata. The checks of [`crate::built`] apply to the
+    /// stretch.
     pub fn tabulate_range(
         &self,
         s_from_m: f64,
@@ -230,12 +243,14 @@ impl TrackModel {
         let left = rails.pop().expect("two rails");
         let mut meta = self.meta();
         meta.tool = tool.to_string();
-        Ok(TrackTables {
+        let tables = TrackTables {
             meta,
             centerline,
             left,
             right,
-        })
+        };
+        self.check(&tables)?;
+        Ok(tables)
     }
 
     /// Rail rows at the rail's own arc lengths `l` (m).

@@ -10,6 +10,7 @@ use runtime::io::schema;
 
 use crate::config::BuildConfig;
 use crate::contact_table::{ContactTableConfig, build_contact_table, conicity_of};
+use crate::csv::read_text;
 use crate::error::BuildError;
 use crate::inputs::{CantInput, CenterlineInput, IrregularityInput};
 use crate::model::{TrackInputs, TrackModel};
@@ -39,7 +40,8 @@ fn read(path: &Path) -> Result<String, BuildError> {
 }
 
 /// Read and parse the input files of a request (with their text, for
-/// provenance).
+/// provenance). The CSV files must be UTF-8 (a byte-order mark is
+/// ignored); a byte that is not is an error at its line and column.
 pub fn read_inputs(req: &BuildRequest) -> Result<(TrackInputs, Vec<InputFile>), BuildError> {
     let mut files = Vec::new();
     let mut keep = |role: &str, path: &Path, text: &str| {
@@ -49,12 +51,12 @@ pub fn read_inputs(req: &BuildRequest) -> Result<(TrackInputs, Vec<InputFile>), 
             text: text.into(),
         })
     };
-    let text = read(&req.centerline)?;
+    let text = read_text(&req.centerline)?;
     let centerline = CenterlineInput::parse(&req.centerline, &text)?;
     keep("centerline", &req.centerline, &text);
     let cant = match &req.cant {
         Some(p) => {
-            let text = read(p)?;
+            let text = read_text(p)?;
             let c = CantInput::parse(p, &text)?;
             keep("cant", p, &text);
             Some(c)
@@ -63,7 +65,7 @@ pub fn read_inputs(req: &BuildRequest) -> Result<(TrackInputs, Vec<InputFile>), 
     };
     let irregularities = match &req.irregularities {
         Some(p) => {
-            let text = read(p)?;
+            let text = read_text(p)?;
             let i = IrregularityInput::parse(p, &text)?;
             keep("irregularities", p, &text);
             Some(i)

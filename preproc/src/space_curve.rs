@@ -66,6 +66,17 @@ impl CurvePoint {
     }
 }
 
+/// The point of a curve where it bends most ([`SpaceCurve::sharpest_bend`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Bend {
+    /// Piece (between control points `piece` and `piece + 1`, 0-based).
+    pub piece: usize,
+    /// Arc length there (m).
+    pub s_m: f64,
+    /// Frenet curvature there (1/m); 0 on a straight curve.
+    pub curvature_1_m: f64,
+}
+
 /// A fitted space curve, parameterisable by arc length.
 #[derive(Debug, Clone)]
 pub struct SpaceCurve {
@@ -147,6 +158,34 @@ impl SpaceCurve {
     /// Always false: a curve has at least two points.
     pub fn is_empty(&self) -> bool {
         self.tau.is_empty()
+    }
+
+    /// Where the curve bends most: the largest Frenet curvature over 17
+    /// points of every piece (its ends and 15 between, as the check of
+    /// [`SpaceCurve::fit`] samples it). A cubic piece's curvature varies
+    /// smoothly, so this finds the peak of each piece to within a small
+    /// fraction of its value.
+    pub fn sharpest_bend(&self) -> Bend {
+        let mut best = Bend {
+            piece: 0,
+            s_m: 0.0,
+            curvature_1_m: 0.0,
+        };
+        for i in 0..self.tau.len() - 1 {
+            let (t0, t1) = (self.tau[i], self.tau[i + 1]);
+            for k in 0..=16 {
+                let t = t0 + (t1 - t0) * k as f64 / 16.0;
+                let kappa = self.point_in_piece(i, t).curvature();
+                if kappa > best.curvature_1_m {
+                    best = Bend {
+                        piece: i,
+                        s_m: self.cum[i] + gauss_legendre_8(t0, t, |u| self.speed_in_piece(i, u)),
+                        curvature_1_m: kappa,
+                    };
+                }
+            }
+        }
+        best
     }
 
     #[inline]
@@ -283,6 +322,20 @@ mod tests {
             let p = c.at_arc_length(50.0);
             assert!((p.curvature() * r - 1.0).abs() < 1e-4, "{scheme}");
         }
+    }
+
+    #[test]
+    fn sharpest_bend_of_a_circle_and_a_line() {
+        let c = SpaceCurve::fit(Scheme::Cubic, &circle(50.0, 40, 0.05)).unwrap();
+        let b = c.sharpest_bend();
+        // Within the not-a-knot end pieces' small overshoot (0.2 %).
+        assert!((b.curvature_1_m * 50.0 - 1.0).abs() < 5e-3, "{b:?}");
+        assert!(b.s_m >= 0.0 && b.s_m <= c.length());
+        let pts: Vec<[f64; 3]> = (0..5).map(|k| [k as f64, 0.0, 0.0]).collect();
+        let b = SpaceCurve::fit(Scheme::Cubic, &pts)
+            .unwrap()
+            .sharpest_bend();
+        assert_eq!(b.curvature_1_m, 0.0);
     }
 
     #[test]

@@ -675,11 +675,13 @@ fn track_preproc_cases_not_covered_elsewhere() {
     let cases: [(&str, &str, &[&str], &[&str]); 5] = [
         // Found while writing the fuzz targets: both used to abort the
         // process on a failed allocation (exit 134) before the size check.
+        // (Written with 3e9 m then; coordinates beyond 1e8 m are now
+        // refused as a unit error, so the track is 3e7 m.)
         (
-            "track_of_3e9_m",
-            "x,y,z\n0,0,0\n1e9,0,0\n2e9,0,0\n3e9,0,0\n",
+            "track_of_3e7_m",
+            "x,y,z\n0,0,0\n1e7,0,0\n2e7,0,0\n3e7,0,0\n",
             &[],
-            &["track tables would need 3.000e10 rows", "--step"],
+            &["track tables would need 3.000e8 rows", "--step"],
         ),
         (
             "control_points_1e-8_m_apart",

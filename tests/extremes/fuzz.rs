@@ -525,11 +525,20 @@ proptest! {
 /// apart, used to abort the build on a failed allocation (the tables, or
 /// the rails' nodal points, would have needed 3 × 10¹⁰ and 3 × 10¹¹
 /// rows); they are now refused before allocating
-/// (`preproc::model::MAX_TABLE_ROWS`).
+/// (`preproc::model::MAX_TABLE_ROWS`). Coordinates beyond 10⁸ m are now
+/// refused on reading (`preproc::bounds::MAX_COORDINATE_M`), so the long
+/// track spans 3 × 10⁷ m (3 × 10⁸ rows), and the 3 × 10⁹ m one is refused
+/// at its line and column.
 #[test]
 fn regression_oversized_tracks_are_refused() {
-    for text in [
+    let e = CenterlineInput::parse(
+        Path::new("big.csv"),
         "x,y,z\n0,0,0\n1e9,0,0\n2e9,0,0\n3e9,0,0\n",
+    )
+    .expect_err("refused");
+    assert!(e.to_string().contains("big.csv, line 3, column 1"), "{e}");
+    for text in [
+        "x,y,z\n0,0,0\n1e7,0,0\n2e7,0,0\n3e7,0,0\n",
         "x,y,z\n0,0,0\n1e-8,0,0\n1000,0,0\n2000,0,0\n3000,0,0\n",
     ] {
         let c = CenterlineInput::parse(Path::new("big.csv"), text).expect("parses");

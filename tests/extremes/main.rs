@@ -16,3 +16,4 @@ mod motion;
 mod track;
 mod trust;
 mod trust_diagnostics;
+mod trust_track;

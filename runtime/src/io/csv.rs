@@ -5,9 +5,13 @@
 //!
 //! # What it reads
 //!
+//! * [`read_text`]: the bytes of a file as UTF-8 text; bytes that are not
+//!   UTF-8 are an error naming the line and column where they are.
 //! * [`data_lines`]: the lines that carry data, numbered from 1 as an
 //!   editor shows them; blank lines and lines whose first non-blank
-//!   character is `#` are comments.
+//!   character is `#` are comments. A UTF-8 byte-order mark (U+FEFF, which
+//!   some editors write at the start of a file) is not part of the text
+//!   ([`strip_bom`]).
 //! * [`split_fields`]: the fields of one line, trimmed, for either
 //!   [`Separator`]:
 //!   - [`Separator::Comma`]: CSV (RFC 4180) through the `csv` crate, so a
@@ -81,11 +85,55 @@ pub fn parse_number(token: &str) -> Result<f64, NumberError> {
     }
 }
 
+/// The UTF-8 byte-order mark, U+FEFF.
+const BOM: char = '\u{feff}';
+
+/// `text` without a leading UTF-8 byte-order mark: editors on Windows
+/// write one at the start of a file; it is not part of the first line's
+/// content (the Unicode Standard, §23.8 "Byte Order Mark"), and left in
+/// place it would glue an invisible character to the first header name or
+/// hide a `#` comment.
+pub fn strip_bom(text: &str) -> &str {
+    text.strip_prefix(BOM).unwrap_or(text)
+}
+
+/// Read the file `path` as UTF-8 text. Bytes that are not UTF-8 (a file
+/// saved as Latin-1 or Windows-1252, a binary file) are a
+/// [`CsvError::Encoding`] naming the 1-based line and character column of
+/// the first such byte.
+pub fn read_text(path: &Path) -> Result<String, CsvError> {
+    let bytes = std::fs::read(path).map_err(|source| CsvError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    decode_utf8(path, bytes)
+}
+
+/// `bytes` (the content of `path`) as UTF-8 text, or a
+/// [`CsvError::Encoding`] naming where the first byte that is not UTF-8 is.
+pub fn decode_utf8(path: &Path, bytes: Vec<u8>) -> Result<String, CsvError> {
+    String::from_utf8(bytes).map_err(|e| {
+        let bytes = e.as_bytes();
+        let at = e.utf8_error().valid_up_to();
+        let valid = &bytes[..at];
+        let line_start = valid.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+        // The prefix is valid UTF-8 by construction.
+        let column = std::str::from_utf8(&valid[line_start..]).map_or(1, |l| l.chars().count() + 1);
+        CsvError::Encoding {
+            path: path.to_path_buf(),
+            line: valid.iter().filter(|&&b| b == b'\n').count() + 1,
+            column,
+            byte: bytes[at],
+        }
+    })
+}
+
 /// The lines of `text` that carry data: (1-based line number, trimmed
 /// text); blank lines and lines starting with `#` (after blanks) are
-/// skipped.
+/// skipped, and a leading byte-order mark is ignored ([`strip_bom`]).
 pub fn data_lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
-    text.lines()
+    strip_bom(text)
+        .lines()
         .enumerate()
         .map(|(i, l)| (i + 1, l.trim()))
         .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'))
@@ -130,6 +178,15 @@ pub enum CsvError {
         path: PathBuf,
         #[source]
         source: std::io::Error,
+    },
+    #[error("{}, line {line}, column {column}: {}", path.display(), self.rule())]
+    Encoding {
+        path: PathBuf,
+        line: usize,
+        /// 1-based character column of the first byte that is not UTF-8.
+        column: usize,
+        /// That byte.
+        byte: u8,
     },
     #[error("{}: {}", path.display(), self.rule())]
     Empty { path: PathBuf },
@@ -192,6 +249,7 @@ impl CsvError {
     pub fn path(&self) -> &Path {
         match self {
             Self::Read { path, .. }
+            | Self::Encoding { path, .. }
             | Self::Empty { path }
             | Self::Syntax { path, .. }
             | Self::HeaderNumber { path, .. }
@@ -207,7 +265,8 @@ impl CsvError {
     pub fn line(&self) -> Option<usize> {
         match self {
             Self::Read { .. } | Self::Empty { .. } => None,
-            Self::Syntax { line, .. }
+            Self::Encoding { line, .. }
+            | Self::Syntax { line, .. }
             | Self::HeaderNumber { line, .. }
             | Self::HeaderUnnamed { line, .. }
             | Self::HeaderDuplicate { line, .. }
@@ -217,10 +276,25 @@ impl CsvError {
         }
     }
 
+    /// The 1-based column, when the error is about one value (or one
+    /// byte).
+    pub fn column(&self) -> Option<usize> {
+        match self {
+            Self::Encoding { column, .. }
+            | Self::HeaderUnnamed { column, .. }
+            | Self::NotANumber { column, .. }
+            | Self::NonFinite { column, .. } => Some(*column),
+            _ => None,
+        }
+    }
+
     /// The rule broken, without the file and the line.
     pub fn rule(&self) -> String {
         match self {
             Self::Read { source, .. } => source.to_string(),
+            Self::Encoding { byte, .. } => format!(
+                "byte 0x{byte:02x} is not UTF-8 (the file is in another encoding, e.g. Latin-1); save it as UTF-8"
+            ),
             Self::Empty { .. } => "the file is empty (expected a header row)".into(),
             Self::Syntax { message, .. } => message.clone(),
             Self::HeaderNumber { text, .. } => {
@@ -261,17 +335,14 @@ pub struct CsvTable {
 impl CsvTable {
     /// Read the file `path` (module docs).
     pub fn read(path: &Path, separator: Separator) -> Result<Self, CsvError> {
-        let text = std::fs::read_to_string(path).map_err(|source| CsvError::Read {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        Self::parse(path, &text, separator)
+        Self::parse(path, &read_text(path)?, separator)
     }
 
     /// Parse `text`, the content of `path` (named in errors). Pure: does
     /// not touch the file system.
     pub fn parse(path: &Path, text: &str, separator: Separator) -> Result<Self, CsvError> {
         let p = || path.to_path_buf();
+        let text = strip_bom(text);
         let preamble = text
             .lines()
             .map(str::trim)
@@ -504,6 +575,74 @@ mod tests {
             matches!(e, CsvError::Read { .. }) && e.line().is_none(),
             "{e:?}"
         );
+    }
+
+    /// A byte-order mark at the start is not part of the text: the first
+    /// header name and a first `#` comment read as without it.
+    #[test]
+    fn a_byte_order_mark_is_ignored() {
+        let t = parse("\u{feff}x,y\n1,2\n").unwrap();
+        assert_eq!(t.columns, ["x", "y"]);
+        let t = parse("\u{feff}# made on Windows\nx,y\n1,2\n").unwrap();
+        assert_eq!(
+            (t.header_line, t.columns.clone()),
+            (2, vec!["x".into(), "y".into()])
+        );
+        assert_eq!(t.preamble, ["made on Windows"]);
+        assert_eq!(
+            data_lines("\u{feff}# c\n1 2\n").collect::<Vec<_>>(),
+            [(2, "1 2")]
+        );
+        let t = CsvTable::parse(
+            Path::new("w.dat"),
+            "\u{feff}a b\n1 2\n",
+            Separator::Whitespace,
+        )
+        .unwrap();
+        assert_eq!(t.columns, ["a", "b"]);
+    }
+
+    /// Bytes that are not UTF-8 are reported at their line and column.
+    #[test]
+    fn bytes_that_are_not_utf8_are_located() {
+        let bytes = b"x,y\n1,2\n3,4 \xb0\n".to_vec();
+        let e = decode_utf8(Path::new("t.csv"), bytes).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                CsvError::Encoding {
+                    line: 3,
+                    column: 5,
+                    byte: 0xb0,
+                    ..
+                }
+            ),
+            "{e:?}"
+        );
+        assert_eq!((e.line(), e.column()), (Some(3), Some(5)));
+        assert!(
+            e.to_string()
+                .starts_with("t.csv, line 3, column 5: byte 0xb0 is not UTF-8"),
+            "{e}"
+        );
+        // Multi-byte characters before it count as one column each.
+        let e = decode_utf8(
+            Path::new("t.csv"),
+            "é\u{fc}".bytes().chain([0xff]).collect(),
+        )
+        .unwrap_err();
+        assert_eq!((e.line(), e.column()), (Some(1), Some(3)));
+        assert_eq!(
+            decode_utf8(Path::new("t.csv"), b"ok".to_vec()).unwrap(),
+            "ok"
+        );
+        let dir = std::env::temp_dir().join(format!("csv-utf8-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let f = dir.join("latin1.csv");
+        std::fs::write(&f, b"x,y\n\xe9,2\n").unwrap();
+        let e = CsvTable::read(&f, Separator::Comma).unwrap_err();
+        assert_eq!((e.line(), e.column()), (Some(2), Some(1)));
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
