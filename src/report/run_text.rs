@@ -56,6 +56,9 @@ impl RunSummary {
             s += &crate::run::diagnostics::nadal_text(&w.name, &w.nadal);
         }
         s += &self.fallbacks.to_text();
+        for w in &self.warnings {
+            s += &format!("  {w}\n");
+        }
         if let Some(st) = &self.stopped {
             s += &format!("  stopped early: {st}\n");
         }

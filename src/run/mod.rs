@@ -319,6 +319,7 @@ fn run_session(
         error: error.as_ref().map(crate::error_text::chain_text),
         track: session.track_source.clone(),
         plan: plan.clone(),
+        warnings: session.warnings.clone(),
     };
     let failure = error.map(|e| RunFailure {
         at_s: simulated_time_s,

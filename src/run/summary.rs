@@ -109,6 +109,9 @@ pub struct RunSummary {
     pub track: TrackSource,
     /// What the planner decided ([`crate::session::plan`]).
     pub plan: crate::session::plan::Plan,
+    /// Warnings of the inputs ([`crate::session::Session::warnings`]): what
+    /// was dropped from a profile cut to its longest usable stretch.
+    pub warnings: Vec<String>,
 }
 
 pub(crate) fn wheelset_summaries(r: &RunResults) -> Vec<WheelsetSummary> {

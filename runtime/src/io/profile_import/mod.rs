@@ -65,7 +65,7 @@ mod columns;
 mod load;
 mod simpack;
 
-pub use load::{ProfileLoadError, load_rail, load_wheel};
+pub use load::{Loaded, ProfileLoadError, load_rail, load_wheel};
 
 pub use simpack::SimpackSettings;
 
@@ -217,20 +217,26 @@ pub enum ProfileImportError {
     Io { path: PathBuf, message: String },
     #[error("'{path}': invalid import option: {rule}")]
     InvalidOption { path: PathBuf, rule: String },
-    #[error("'{path}', line {line}: {what}: '{text}' is not a number")]
+    #[error("'{path}', line {line}{}: {what}: '{text}' is not a number", column_note(*column))]
     NotANumber {
         path: PathBuf,
         line: usize,
-        /// Which value (e.g. "z (column 2)", "value of 'shift.y'").
+        /// 1-based column (field) of the value in its row; `None` for a
+        /// value that is not in a row of numbers (a SIMPACK key's value).
+        column: Option<usize>,
+        /// Which value (e.g. "z", "value of 'shift.y'").
         what: String,
         text: String,
     },
     #[error(
-        "'{path}', line {line}: {what}: '{text}' is not finite (every value must be a finite number)"
+        "'{path}', line {line}{}: {what}: '{text}' is not finite (every value must be a finite number)",
+        column_note(*column)
     )]
     NonFinite {
         path: PathBuf,
         line: usize,
+        /// As for `NotANumber`.
+        column: Option<usize>,
         what: String,
         text: String,
     },
@@ -326,6 +332,11 @@ pub enum ProfileImportError {
         line: usize,
         rule: String,
     },
+}
+
+/// ", column N" when there is a column.
+fn column_note(column: Option<usize>) -> String {
+    column.map_or(String::new(), |c| format!(", column {c}"))
 }
 
 /// Part of the "too few points" message.
@@ -525,6 +536,7 @@ fn finish(
                 return Err(ProfileImportError::NonFinite {
                     path: path.to_path_buf(),
                     line: p.line,
+                    column: None,
                     what: format!("{what} after processing and unit conversion"),
                     text: v.to_string(),
                 });
@@ -598,10 +610,12 @@ fn y_order(points: &[[f64; 2]], lines: &[usize]) -> YOrder {
 }
 
 /// [`parse_number`] (the workspace's one number reader) with the error
-/// located at `line` and described by `what`.
+/// located at `line` and `column` (1-based field of a row, if any) and
+/// described by `what`.
 fn number(
     path: &Path,
     line: usize,
+    column: Option<usize>,
     what: impl Fn() -> String,
     token: &str,
 ) -> Result<f64, ProfileImportError> {
@@ -609,12 +623,14 @@ fn number(
         NumberError::NotANumber => ProfileImportError::NotANumber {
             path: path.to_path_buf(),
             line,
+            column,
             what: what(),
             text: token.to_string(),
         },
         NumberError::NonFinite => ProfileImportError::NonFinite {
             path: path.to_path_buf(),
             line,
+            column,
             what: what(),
             text: token.to_string(),
         },
@@ -786,16 +802,78 @@ mod tests {
         assert!(!f.is_empty());
     }
 
+    /// Every format, by extension and by content, and read from a file:
+    /// a UTF-8 byte order mark (Windows editors write one) is not data.
     #[test]
-    fn a_byte_order_mark_is_ignored() {
-        let f = plain("\u{feff}0 0\n1 1\n2 4\n3 9\n").unwrap();
-        assert_eq!(f.len(), 4);
-        let f = parse_profile(
-            Path::new("p.txt"),
-            "\u{feff}spline.begin\npoint.begin\n0 0\n1 1\n2 4\n3 9\npoint.end\nspline.end\n",
-            &ImportOptions::default(),
-        )
-        .unwrap();
-        assert_eq!(f.format, ProfileFormat::Simpack);
+    fn a_byte_order_mark_is_ignored_in_every_format() {
+        let simpack = |t: i64| {
+            format!(
+                "header.begin\nversion = 1\ntype = {t}\nheader.end\nspline.begin\npoint.begin\n0 0\n1 1\n2 4\n3 9\npoint.end\nspline.end\n"
+            )
+        };
+        let bare = "spline.begin\npoint.begin\n0 0\n1 1\n2 4\n3 9\npoint.end\nspline.end\n";
+        let cases = [
+            ("w.prw", simpack(1), ProfileFormat::Simpack),
+            ("r.prr", simpack(0), ProfileFormat::Simpack),
+            ("p.txt", bare.to_string(), ProfileFormat::Simpack),
+            ("p.dat", SQUARE.to_string(), ProfileFormat::Plain),
+            (
+                "p.csv",
+                format!("y_mm,z_mm\n{}", SQUARE.replace(' ', ",")),
+                ProfileFormat::Csv,
+            ),
+            (
+                "q.csv",
+                format!("# c\ny,z\n{}", SQUARE.replace(' ', ",")),
+                ProfileFormat::Csv,
+            ),
+        ];
+        let dir = std::env::temp_dir().join(format!("profile_bom_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        for (name, text, format) in cases {
+            let plain = parse_profile(Path::new(name), &text, &ImportOptions::default())
+                .unwrap_or_else(|e| panic!("{name}: {e}"));
+            let with_bom = format!("\u{feff}{text}");
+            let f = parse_profile(Path::new(name), &with_bom, &ImportOptions::default())
+                .unwrap_or_else(|e| panic!("{name} with a BOM: {e}"));
+            assert_eq!(f.format, format, "{name}");
+            assert_eq!(f.points_m, plain.points_m, "{name}");
+            assert_eq!(f.lines, plain.lines, "{name}");
+            let path = dir.join(name);
+            std::fs::write(&path, with_bom.as_bytes()).unwrap();
+            let f = read_profile(&path, &ImportOptions::default())
+                .unwrap_or_else(|e| panic!("{name} read with a BOM: {e}"));
+            assert_eq!(f.points_m, plain.points_m, "{name}");
+        }
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    /// A number that does not parse names the file, the line and the
+    /// column (field) in every format.
+    #[test]
+    fn a_bad_number_names_file_line_and_column() {
+        let cases = [
+            ("p.dat", "0 0\n1 1\n2 x4\n3 9\n", 3, 2),
+            ("p.dat", "0 0\n1,1\nq,4\n3 9\n", 3, 1),
+            ("p.csv", "z_mm,y_mm\n0,0\n1,1\n2,4\n9,3o\n", 5, 2),
+            (
+                "r.prr",
+                "spline.begin\npoint.begin\n0 0\n1 1\n2 4 1e\n3 9\npoint.end\nspline.end\n",
+                5,
+                3,
+            ),
+        ];
+        for (name, text, line, column) in cases {
+            let e = parse_profile(Path::new(name), text, &ImportOptions::default()).unwrap_err();
+            assert!(
+                matches!(e, ProfileImportError::NotANumber { column: Some(c), .. } if c == column),
+                "{name}: {e:?}"
+            );
+            assert!(
+                e.to_string()
+                    .starts_with(&format!("'{name}', line {line}, column {column}: ")),
+                "{e}"
+            );
+        }
     }
 }
