@@ -24,6 +24,18 @@
 //! `y`); SIMPACK's `z` points down, the others' up. So `u = −y` and
 //! `z_up = ±z`. A [`FileMapping`] keeps the way back, so contact points can
 //! be reported in the file's own coordinates.
+//!
+//! # Which points are used
+//!
+//! One rule for every file format (module `stretch`,
+//! docs/reference/05-surfaces.md §5.3): the steep faces at a profile's ends are trimmed; a profile that
+//! folds back, repeats its lateral coordinate or breaks inside its usable
+//! stretch is refused at the file line of the first offending point, unless
+//! `keep_longest_stretch` asks for its longest usable stretch, which then
+//! comes with a [`ProfileWarning`] naming every dropped line. A profile
+//! whose size is implausible (lateral span, [`MIN_PROFILE_SPAN_M`] …
+//! [`MAX_PROFILE_SPAN_M`]; wheel flange height, [`MIN_FLANGE_HEIGHT_M`] …
+//! [`MAX_FLANGE_HEIGHT_M`]) is refused with "check the unit".
 
 mod bounds;
 mod curve;

@@ -364,10 +364,11 @@ fn refusal(
         Step::Steep | Step::Usable => {
             let (du, dz) = (pts[at].0 - pts[before].0, pts[at].1 - pts[before].1);
             format!(
-                "the step from {} (file y = {y0:.3}, z = {z0:.3} mm) to here (y = {y:.3}, z = {z:.3} mm) is at {:.1}°, steeper than {:.0}°",
+                "the step from {} (file y = {y0:.3}, z = {z0:.3} mm) to here (y = {y:.3}, z = {z:.3} mm) is at {:.1}°, steeper than {:.0}° (a face that steep puts the contact normal within {:.0}° of horizontal, outside the contact model)",
                 names.name(before),
                 dz.abs().atan2(du.abs()).to_degrees(),
-                trim_angle_rad.to_degrees()
+                trim_angle_rad.to_degrees(),
+                90.0 - trim_angle_rad.to_degrees()
             )
         }
     };

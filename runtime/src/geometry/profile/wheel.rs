@@ -80,12 +80,13 @@ const FIELD_SIDE_M: f64 = 0.040;
 /// point may lie before the trimming is said to have cut the flange off (m).
 const FLANGE_LOST_TOLERANCE_M: f64 = 0.001;
 
-/// The trimming of steep faces ([`super::internal_points`] keeps the longest
-/// stretch with faces no steeper than the trim angle) must not cut away the
-/// flange: a flank steeper than the trim angle between the tread and the
-/// tip would otherwise leave a wheel without its flange — silently, when
-/// the tread holds most of the points — and the wheelset would run through
-/// its rails. That is an error naming the tip and the steepest face.
+/// The trimming of steep faces at the profile's ends (the usable stretch,
+/// [`super::internal_points`]) must not cut away the flange: a flank
+/// steeper than the trim angle beyond which the profile never flattens
+/// again (a steep face inside the stretch is refused at its line already),
+/// or the longest stretch kept with `keep_longest_stretch`, would otherwise
+/// leave a wheel without its flange, and the wheelset would run through its
+/// rails. That is an error naming the tip and the steepest face.
 fn check_flange_kept(
     path: &Path,
     points_file_m: &[[f64; 2]],

@@ -42,7 +42,8 @@
 //! # What is checked
 //!
 //! Every error names the file, the 1-based line and the rule broken
-//! ([`ProfileImportError`]): a value that is not a number or not finite, a
+//! ([`ProfileImportError`]): a value that is not a number or not finite
+//! (and its column), a
 //! row with the wrong number of values, fewer than [`MIN_POINTS`] points
 //! (after the file's processing), two consecutive equal points, a SIMPACK
 //! file without a point block, with an unknown key, a duplicated key, badly
@@ -57,9 +58,17 @@
 //! Points are **never sorted or reordered** (except by a SIMPACK
 //! `inversion = 1`, which the file asks for). Whether y is strictly
 //! monotone is reported in [`ProfileFile::y_order`]: profiles with vertical
-//! faces can repeat or reverse y, and what to do about it is the caller's
-//! decision. Each point keeps the line it came from ([`ProfileFile::lines`]),
-//! so later checks can name it too ([`ProfileFile::error_at`]).
+//! faces can repeat or reverse y. Each point keeps the line it came from
+//! ([`ProfileFile::lines`]), so later checks can name it too
+//! ([`ProfileFile::error_at`]): building a wheel or rail profile
+//! ([`load_wheel`], [`load_rail`]) passes the lines on, and the one rule of
+//! the usable stretch (the same for every format,
+//! docs/reference/05-surfaces.md §5.3) refuses a profile that folds back or
+//! repeats y inside it at the line of the first offending point.
+//!
+//! A UTF-8 byte order mark at the start of the text is skipped in every
+//! format. A value that is not a number names the file, the line and, in a
+//! row of numbers, the column (the 1-based field).
 
 mod columns;
 mod load;
