@@ -100,6 +100,11 @@ pub struct ContactArgs {
     /// Write plots (Δr(y), contact points on the profiles) into this directory.
     #[arg(long, value_name = "DIR")]
     pub plots: Option<PathBuf>,
+    /// A profile that folds back, repeats its lateral coordinate or breaks
+    /// inside is refused; with this flag its longest usable stretch is kept
+    /// instead, and a warning names every dropped line.
+    #[arg(long)]
+    pub keep_longest_stretch: bool,
 }
 
 impl ContactArgs {
@@ -136,6 +141,7 @@ impl ContactArgs {
                     },
                 }
             },
+            keep_longest_stretch: self.keep_longest_stretch,
             ..Default::default()
         };
         config.validate()?;

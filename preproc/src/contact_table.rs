@@ -15,7 +15,9 @@ use runtime::contact::{
     Candidate, ContactError, ContactOptions, ContactSolver, FlangeSearch, WheelsetContactModel,
 };
 use runtime::forces::hertz::Material;
-use runtime::geometry::profile::{RailPlacement, RailProfileOptions, WheelProfileOptions, Zone};
+use runtime::geometry::profile::{
+    ProfileWarning, RailPlacement, RailProfileOptions, WheelProfileOptions, Zone,
+};
 use runtime::geometry::spline::Scheme;
 use runtime::geometry::track::{Side, straight_track};
 use runtime::io::profile_import::{ImportOptions, ProfileLoadError, load_rail, load_wheel};
@@ -65,6 +67,11 @@ pub struct ContactTableConfig {
     /// Yaw angles (rad); `[0]` for the classic table.
     pub yaw_rad: Vec<f64>,
     pub support: TableSupport,
+    /// Keep the longest usable stretch of a profile that folds back,
+    /// repeats its lateral coordinate or breaks inside, instead of refusing
+    /// it (`--keep-longest-stretch`); [`Self::model`] then returns a warning
+    /// naming the dropped lines (docs/reference/05-surfaces.md §5.3).
+    pub keep_longest_stretch: bool,
 }
 
 impl Default for ContactTableConfig {
@@ -88,6 +95,7 @@ impl Default for ContactTableConfig {
                 wheel_load_n: DEFAULT_WHEEL_LOAD_N,
                 material: Material::default(),
             },
+            keep_longest_stretch: false,
         }
     }
 }
@@ -170,8 +178,12 @@ impl ContactTableConfig {
         (lo..=hi).map(|k| k as f64 * self.y_step_m).collect()
     }
 
-    /// Load the profiles and assemble the wheelset's contact model.
-    pub fn model(&self) -> Result<WheelsetContactModel, ContactTableBuildError> {
+    /// Load the profiles and assemble the wheelset's contact model; with it
+    /// the warnings of the profiles (one per profile cut to its longest
+    /// usable stretch), which the caller must show.
+    pub fn model(
+        &self,
+    ) -> Result<(WheelsetContactModel, Vec<ProfileWarning>), ContactTableBuildError> {
         let wheel = |path: &Path, radius: f64| {
             load_wheel(
                 path,
@@ -179,15 +191,15 @@ impl ContactTableConfig {
                 WheelProfileOptions {
                     scheme: self.profile_scheme,
                     nominal_radius_m: radius,
+                    keep_longest_stretch: self.keep_longest_stretch,
                     ..Default::default()
                 },
             )
         };
         let left = wheel(&self.wheel_profile, self.wheel_radius_m)?;
+        let right_path = self.right_wheel_profile.as_deref();
         let right = wheel(
-            self.right_wheel_profile
-                .as_deref()
-                .unwrap_or(&self.wheel_profile),
+            right_path.unwrap_or(&self.wheel_profile),
             self.right_wheel_radius_m.unwrap_or(self.wheel_radius_m),
         )?;
         let rail = load_rail(
@@ -195,10 +207,18 @@ impl ContactTableConfig {
             &ImportOptions::default(),
             RailProfileOptions {
                 scheme: self.profile_scheme,
+                keep_longest_stretch: self.keep_longest_stretch,
                 ..Default::default()
             },
         )?;
-        WheelsetContactModel::new(
+        // The same wheel file twice warns once.
+        let mut warnings = left.warnings;
+        if right_path.is_some_and(|p| p != self.wheel_profile) {
+            warnings.extend(right.warnings);
+        }
+        warnings.extend(rail.warnings);
+        let (left, right, rail) = (left.profile, right.profile, rail.profile);
+        let model = WheelsetContactModel::new(
             left,
             right,
             self.back_to_back_m,
@@ -210,7 +230,8 @@ impl ContactTableConfig {
                 inclination_rad: self.rail_inclination_rad,
             },
         )
-        .map_err(|e| ContactTableBuildError::Model(e.to_string()))
+        .map_err(|e| ContactTableBuildError::Model(e.to_string()))?;
+        Ok((model, warnings))
     }
 }
 

@@ -130,8 +130,8 @@ pub fn run_build(
                 ..c.clone()
             };
             provenance.inputs.extend(profile_inputs(&c)?);
-            let model = c.model()?;
-            Some(build_contact_table(&model, &c, progress)?)
+            let (model, warnings) = c.model()?;
+            Some((build_contact_table(&model, &c, progress)?, warnings))
         }
         None => None,
     };
@@ -141,7 +141,7 @@ pub fn run_build(
     });
     let w = schema::TableFileWriter::create(&req.output)?;
     w.write_track(&tables)?;
-    if let Some(t) = &contact {
+    if let Some((t, _)) = &contact {
         w.write_contact_table(t)?;
     }
     w.write_provenance(&provenance)?;
@@ -152,9 +152,10 @@ pub fn run_build(
         &req.output.display().to_string(),
         start.elapsed().as_secs_f64(),
     );
-    summary.contact_table = contact
-        .as_ref()
-        .map(|t| ContactTableSummary::new(t, conicity_of(t)));
+    summary.contact_table = contact.as_ref().map(|(t, warnings)| ContactTableSummary {
+        warnings: warnings.iter().map(ToString::to_string).collect(),
+        ..ContactTableSummary::new(t, conicity_of(t))
+    });
     Ok(summary)
 }
 
@@ -180,7 +181,7 @@ pub fn run_contact_table(
     progress: &dyn ProgressSink,
 ) -> Result<(runtime::contact::table::ContactTable, ContactTableReport), BuildError> {
     let start = Instant::now();
-    let model = req.config.model()?;
+    let (model, warnings) = req.config.model()?;
     let table = build_contact_table(&model, &req.config, progress)?;
     let provenance = Provenance {
         command_line: req.command_line.clone(),
@@ -190,7 +191,10 @@ pub fn run_contact_table(
     progress.event(Progress::Done);
     let report = ContactTableReport {
         output: req.output.display().to_string(),
-        contact_table: ContactTableSummary::new(&table, conicity_of(&table)),
+        contact_table: ContactTableSummary {
+            warnings: warnings.iter().map(ToString::to_string).collect(),
+            ..ContactTableSummary::new(&table, conicity_of(&table))
+        },
         elapsed_s: start.elapsed().as_secs_f64(),
     };
     Ok((table, report))

@@ -86,6 +86,9 @@ pub struct ContactTableSummary {
     pub flange_contact_right_mm: Option<f64>,
     /// EN 15302 equivalent conicity at 1…6 mm.
     pub conicity: ConicitySummary,
+    /// Warnings of the profiles: what was dropped from a profile cut to its
+    /// longest usable stretch (`--keep-longest-stretch`).
+    pub warnings: Vec<String>,
 }
 
 impl ContactTableSummary {
@@ -115,6 +118,7 @@ impl ContactTableSummary {
             flange_contact_left_mm: flange_at(0, 1.0),
             flange_contact_right_mm: flange_at(1, -1.0),
             conicity,
+            warnings: Vec::new(),
         }
     }
 
@@ -131,8 +135,9 @@ impl ContactTableSummary {
                 None => format!("{a:.0} mm: –"),
             })
             .collect();
+        let warnings: String = self.warnings.iter().map(|w| format!("  {w}\n")).collect();
         format!(
-            "  contact table     {} rows ({} yaw), y {:+.1} … {:+.1} mm, {}{}\n  profiles          {} on {}\n  flange contact    left at {}, right at {}\n  conicity tanγe    {}\n",
+            "  contact table     {} rows ({} yaw), y {:+.1} … {:+.1} mm, {}{}\n  profiles          {} on {}\n{warnings}  flange contact    left at {}, right at {}\n  conicity tanγe    {}\n",
             self.rows,
             self.yaw_count,
             self.y_min_mm,

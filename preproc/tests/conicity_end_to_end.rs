@@ -151,7 +151,7 @@ impl Case {
 
     fn delta_r(&self) -> DeltaRFunction {
         let c = self.config();
-        en15302_delta_r(&c.model().unwrap(), &c, &self.grid_m()).unwrap()
+        en15302_delta_r(&c.model().unwrap().0, &c, &self.grid_m()).unwrap()
     }
 }
 
@@ -270,9 +270,12 @@ fn the_table_stores_the_en15302_conicity() {
         y_step_m: 1e-4,
         ..case.config()
     };
-    let table =
-        preproc::contact_table::build_contact_table(&c.model().unwrap(), &c, &preproc::NoProgress)
-            .unwrap();
+    let table = preproc::contact_table::build_contact_table(
+        &c.model().unwrap().0,
+        &c,
+        &preproc::NoProgress,
+    )
+    .unwrap();
     let dr = case.delta_r();
     for (a, t) in table
         .conicity

@@ -50,7 +50,7 @@ fn ml95_config(track: &TrackTables) -> ContactTableConfig {
 /// at the height and roll of a rigid settling at `s0`; returns the worst
 /// warm iteration count and whether every step found contact on both wheels.
 fn roll_along(track: &TrackTables, s0: f64, s1: f64) -> (u32, bool) {
-    let model = ml95_config(track).model().unwrap();
+    let model = ml95_config(track).model().unwrap().0;
     let mut solver = ContactSolver::new(ContactOptions {
         flange: FlangeSearch::Off,
         ..Default::default()
@@ -80,7 +80,7 @@ fn roll_along(track: &TrackTables, s0: f64, s1: f64) -> (u32, bool) {
 #[test]
 fn wheelset_on_the_canted_curve_with_transitions() {
     let t = track("curve_r300", false);
-    let model = ml95_config(&t).model().unwrap();
+    let model = ml95_config(&t).model().unwrap().0;
     let mut solver = ContactSolver::new(ContactOptions {
         flange: FlangeSearch::On,
         ..Default::default()

@@ -63,6 +63,7 @@ fn ml95_model(inclination: f64) -> WheelsetContactModel {
     let rail = RailProfile::from_points(
         Path::new("circular crown"),
         &circular_crown_rail(),
+        &[],
         false,
         RailProfileOptions::default(),
     )

@@ -288,16 +288,22 @@ fn parse(name: &str, text: &str) -> Result<ProfileFile, E> {
     parse_profile(Path::new(name), text, &ImportOptions::default())
 }
 
-/// The error's message starts with the file and the line, and `line()`
-/// agrees.
+/// The error's message starts with the file and the line (and the column,
+/// for a value in a row of numbers), and `line()` agrees.
 fn assert_located(e: &E, file: &str, line: usize) {
     assert_eq!(e.line(), Some(line), "{e}");
     assert_eq!(e.path(), Path::new(file));
     let msg = e.to_string();
-    assert!(
-        msg.starts_with(&format!("'{file}', line {line}: ")),
-        "{msg}"
-    );
+    let at = format!("'{file}', line {line}");
+    let column = match e {
+        E::NotANumber { column, .. } | E::NonFinite { column, .. } => *column,
+        _ => None,
+    };
+    let want = match column {
+        Some(c) => format!("{at}, column {c}: "),
+        None => format!("{at}: "),
+    };
+    assert!(msg.starts_with(&want), "{msg}");
 }
 
 #[test]

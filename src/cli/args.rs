@@ -162,6 +162,11 @@ pub struct ContactArgs {
     /// Coefficient of friction.
     #[arg(long, default_value_t = 0.3, value_name = "MU")]
     pub mu: f64,
+    /// A profile that folds back, repeats its lateral coordinate or breaks
+    /// inside is refused; with this flag its longest usable stretch is kept
+    /// instead, and a warning names every dropped line.
+    #[arg(long)]
+    pub keep_longest_stretch: bool,
     /// Print JSON.
     #[arg(long)]
     pub json: bool,
@@ -442,6 +447,7 @@ impl ContactArgs {
                     material: crate::studies::contact::material(self.young_pa, self.poisson),
                 }
             },
+            keep_longest_stretch: self.keep_longest_stretch,
             ..Default::default()
         };
         config.validate()?;

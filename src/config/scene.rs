@@ -111,6 +111,13 @@ pub struct TrackSection {
     pub rail_inclination: String,
     /// Rail profile (both rails; SIMPACK .prr, two columns or CSV).
     pub rail_profile: PathBuf,
+    /// Keep the longest usable stretch of a profile (this rail profile and
+    /// the vehicle's wheel profiles) that folds back, repeats its lateral
+    /// coordinate or breaks inside, instead of refusing it; the run's
+    /// summary then warns, naming the dropped lines
+    /// (docs/reference/05-surfaces.md §5.3).
+    #[serde(default)]
+    pub keep_longest_stretch: bool,
     /// Tabulate only this stretch `[from, to]` of the centreline (track
     /// distance, m), built in memory; CSV inputs only. Set by the planner
     /// (the planner) or by hand; absent: the whole track.

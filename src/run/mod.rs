@@ -253,8 +253,24 @@ fn run_session(
                 a
             });
     let track_end_reached = system.track_end_reached();
+    // The last samples to the sink, and the view of all of them in place
+    // of the recorder's record.
+    let mut simulated_time_s = recorder.results.time_s.last().copied().unwrap_or(0.0);
+    let (mut output_samples, mut summary_stride) = (recorder.results.len(), 1);
+    if let Some(s) = stream.as_mut() {
+        s.flush(&mut recorder.results, 1, simulated_time_s)
+            .context("writing the last samples")?;
+        output_samples = s.samples();
+        simulated_time_s = s.last_time_s();
+        summary_stride = s.view_into(&mut recorder.results);
+    }
     let wheelsets = wheelset_summaries(&recorder.results);
-    let mut warnings = Vec::new();
+    // What the inputs dropped (a profile cut to its longest stretch).
+    let mut warnings: Vec<_> = session
+        .warnings
+        .iter()
+        .map(|m| crate::run::warnings::RunWarning::input(m.clone()))
+        .collect();
     if flange_off {
         warnings.extend(flange_warnings(
             &system,
@@ -298,17 +314,6 @@ fn run_session(
         ),
         Err(e) => (None, Some(anyhow!(e))),
     };
-    // The last samples to the sink, and the view of all of them in place
-    // of the recorder's record.
-    let mut simulated_time_s = recorder.results.time_s.last().copied().unwrap_or(0.0);
-    let (mut output_samples, mut summary_stride) = (recorder.results.len(), 1);
-    if let Some(s) = stream.as_mut() {
-        s.flush(&mut recorder.results, 1, simulated_time_s)
-            .context("writing the last samples")?;
-        output_samples = s.samples();
-        simulated_time_s = s.last_time_s();
-        summary_stride = s.view_into(&mut recorder.results);
-    }
     let stopped = match &stats {
         Some(IntegrationStats { stopped: true, .. }) => {
             if stop

@@ -114,7 +114,8 @@ pub struct RunSummary {
     /// Why the run ended before its end time: "interrupted" (Ctrl-C),
     /// "end of track"; `None` when it completed.
     pub stopped: Option<String>,
-    /// What the results show to be doubtful ([`crate::run::warnings`]);
+    /// What the inputs dropped ([`crate::session::Session::warnings`]) and
+    /// what the results show to be doubtful ([`crate::run::warnings`]);
     /// also in the results' `status` and `warnings` attributes.
     pub warnings: Vec<crate::run::warnings::RunWarning>,
     /// The error that ended the run, if any (the results so far are written).

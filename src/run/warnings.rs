@@ -47,8 +47,8 @@ pub const ENERGY_RESIDUAL_FLOOR_J: f64 = 1e-2;
 /// One warning of a run.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct RunWarning {
-    /// `flange_passed_through`, `airborne`, `no_nadal_verdict`,
-    /// `energy_residual`, `check_failed`.
+    /// `input` (points dropped from a profile), `flange_passed_through`,
+    /// `airborne`, `no_nadal_verdict`, `energy_residual`, `check_failed`.
     pub kind: String,
     /// What was seen, with its figures and what to do.
     pub message: String,
@@ -62,6 +62,12 @@ impl RunWarning {
         }
     }
 
+    /// A warning of the inputs ([`crate::session::Session::warnings`]:
+    /// what was dropped from a profile cut to its longest usable stretch).
+    pub fn input(message: String) -> Self {
+        Self::new("input", message)
+    }
+
     /// A few words for the results' `status`.
     pub fn short(&self) -> &str {
         match self.kind.as_str() {
@@ -69,6 +75,7 @@ impl RunWarning {
             "airborne" => "wheels airborne",
             "no_nadal_verdict" => "no Nadal verdict",
             "energy_residual" => "energy residual",
+            "input" => "input points dropped",
             _ => "a check could not be made",
         }
     }

@@ -40,6 +40,7 @@ pub fn contact_tables(
     track: &TrackTables,
     rail: &Path,
     material: Material,
+    keep_longest_stretch: bool,
 ) -> Result<Vec<Arc<ContactTable>>> {
     let mut out: Vec<Arc<ContactTable>> = Vec::new();
     let mut built: Vec<(u64, Arc<ContactTable>)> = Vec::new();
@@ -60,6 +61,7 @@ pub fn contact_tables(
                 wheel_load_n: v.static_wheel_load_n(w),
                 material,
             },
+            keep_longest_stretch,
             ..Default::default()
         };
         let mut key = Fnv64::default();
@@ -87,7 +89,10 @@ pub fn contact_tables(
         let table = match cached {
             Some(t) => t,
             None => {
-                let model = config.model()?;
+                // The profiles' warnings are those of the vehicle model
+                // (the same files, the same option), which the session
+                // reports.
+                let (model, _) = config.model()?;
                 let table = build_contact_table(&model, &config, &NoProgress)
                     .with_context(|| format!("contact table of wheelset '{}'", w.name))?;
                 let inputs = [

@@ -44,6 +44,10 @@ pub struct Session {
     pub method: Method,
     /// Wall time of the assembly (s).
     pub setup_time_s: f64,
+    /// Warnings of the inputs for the run's summary: what was dropped from a
+    /// profile cut to its longest usable stretch
+    /// (`track.keep_longest_stretch`).
+    pub warnings: Vec<String>,
 }
 
 impl Session {
@@ -60,8 +64,12 @@ impl Session {
         let s = &ls.scene;
         let (track, track_source) = track::load_track(&ls).context("track tables")?;
         let vehicle_file = VehicleFile::load(&ls.path(&s.vehicle.file))?;
-        let mut vehicle =
-            vehicle::vehicle_model(&vehicle_file, &track, &ls.path(&s.track.rail_profile))?;
+        let (mut vehicle, warnings) = vehicle::vehicle_model(
+            &vehicle_file,
+            &track,
+            &ls.path(&s.track.rail_profile),
+            s.track.keep_longest_stretch,
+        )?;
         load::add_loads(&mut vehicle, &s.load)?;
         let settings = settings::system_settings(&ls, &vehicle_file, &track)?;
         let method = s.method()?;
@@ -75,6 +83,7 @@ impl Session {
             settings,
             method,
             setup_time_s: start.elapsed().as_secs_f64(),
+            warnings: warnings.iter().map(ToString::to_string).collect(),
         })
     }
 

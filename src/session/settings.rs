@@ -34,9 +34,13 @@ pub fn system_settings(
     };
     let creep_law = scene.creep_law()?;
     let method = match scene.contact.method {
-        ContactMethodKind::Table => {
-            ContactMethod::Table(contact_tables(vfile, track, &rail_path, material)?)
-        }
+        ContactMethodKind::Table => ContactMethod::Table(contact_tables(
+            vfile,
+            track,
+            &rail_path,
+            material,
+            scene.track.keep_longest_stretch,
+        )?),
         ContactMethodKind::Imported => {
             let path = ls.path(
                 scene

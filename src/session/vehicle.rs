@@ -6,7 +6,9 @@ use std::path::Path;
 use anyhow::{Context, Result, anyhow, ensure};
 use nalgebra::{Matrix3, Vector3};
 use runtime::contact::WheelsetContactModel;
-use runtime::geometry::profile::{RailPlacement, RailProfileOptions, WheelProfileOptions};
+use runtime::geometry::profile::{
+    ProfileWarning, RailPlacement, RailProfileOptions, WheelProfileOptions,
+};
 use runtime::geometry::track::TrackTables;
 use runtime::io::profile_import::{ImportOptions, load_rail, load_wheel};
 use runtime::multibody::body::RigidBody;
@@ -19,14 +21,26 @@ fn diag(i: [f64; 3]) -> Matrix3<f64> {
 }
 
 /// The vehicle file as a [`VehicleModel`] on `track` (its rail placement)
-/// with the scene's rail profile.
-pub fn vehicle_model(v: &VehicleFile, track: &TrackTables, rail: &Path) -> Result<VehicleModel> {
-    let rail_profile = load_rail(
+/// with the scene's rail profile; with it the warnings of the profiles (one
+/// per file cut to its longest usable stretch, with
+/// `keep_longest_stretch`), which the caller must show.
+pub fn vehicle_model(
+    v: &VehicleFile,
+    track: &TrackTables,
+    rail: &Path,
+    keep_longest_stretch: bool,
+) -> Result<(VehicleModel, Vec<ProfileWarning>)> {
+    let loaded = load_rail(
         rail,
         &ImportOptions::default(),
-        RailProfileOptions::default(),
+        RailProfileOptions {
+            keep_longest_stretch,
+            ..Default::default()
+        },
     )
     .with_context(|| format!("rail profile {}", rail.display()))?;
+    let rail_profile = loaded.profile;
+    let mut warnings = loaded.warnings;
     let placement = RailPlacement {
         gauge_m: track.meta.gauge_m,
         rail_spacing_m: track.meta.rail_spacing_m,
@@ -35,15 +49,23 @@ pub fn vehicle_model(v: &VehicleFile, track: &TrackTables, rail: &Path) -> Resul
     let mut wheelsets = Vec::new();
     for w in &v.wheelsets {
         let path = v.profile_path(w);
-        let wheel = load_wheel(
+        let loaded = load_wheel(
             &path,
             &ImportOptions::default(),
             WheelProfileOptions {
                 nominal_radius_m: w.nominal_radius_m,
+                keep_longest_stretch,
                 ..Default::default()
             },
         )
         .with_context(|| format!("wheel profile {}", path.display()))?;
+        // Wheelsets sharing a profile file warn once.
+        for warning in loaded.warnings {
+            if !warnings.contains(&warning) {
+                warnings.push(warning);
+            }
+        }
+        let wheel = loaded.profile;
         let contact = WheelsetContactModel::new(
             wheel.clone(),
             wheel,
@@ -116,11 +138,14 @@ pub fn vehicle_model(v: &VehicleFile, track: &TrackTables, rail: &Path) -> Resul
         });
     }
     ensure!(!wheelsets.is_empty(), "the vehicle has no wheelset");
-    Ok(VehicleModel {
-        name: v.name.clone(),
-        wheelsets,
-        bodies,
-        references,
-        elements,
-    })
+    Ok((
+        VehicleModel {
+            name: v.name.clone(),
+            wheelsets,
+            bodies,
+            references,
+            elements,
+        },
+        warnings,
+    ))
 }

@@ -223,12 +223,16 @@ fn compare_points(ours: &ContactTable, imported: &ImportedContactTable) -> Resul
     let wheel_path = Path::new(&ours.meta.wheel_profile);
     // Distance of the taping line from the wheelset centre (m).
     let taping_m = 0.5 * ours.meta.back_to_back_m + options.flange_back_m;
-    let wheel = load_wheel(wheel_path, &ImportOptions::default(), options).with_context(|| {
-        format!(
-            "the wheel profile of our table, {} (needed for the contact position)",
-            wheel_path.display()
-        )
-    })?;
+    // Default options: a profile is built from all its usable points or
+    // refused, never cut down, so there is no warning to show.
+    let wheel = load_wheel(wheel_path, &ImportOptions::default(), options)
+        .with_context(|| {
+            format!(
+                "the wheel profile of our table, {} (needed for the contact position)",
+                wheel_path.display()
+            )
+        })?
+        .profile;
     let (lo, hi) = imported.wheelset_range_m();
     let mut out = Vec::new();
     for (i, &y) in ours.y_m.iter().enumerate() {

@@ -117,6 +117,9 @@ pub struct ContactCase {
     pub wheelset: WheelsetReport,
     pub forces: ForceModelReport,
     pub wheels: Vec<WheelReport>,
+    /// Warnings of the profiles: what was dropped from a profile cut to its
+    /// longest usable stretch (`--keep-longest-stretch`).
+    pub warnings: Vec<String>,
 }
 
 /// Track section where the wheelset is placed on the in-memory track (m).
@@ -204,7 +207,7 @@ pub fn contact_case(
             rolling.speed_m_s
         );
     }
-    let model = config.model()?;
+    let (model, warnings) = config.model()?;
     let track = straight_track(
         2.0 * S_WHEELSET_M,
         0.1,
@@ -290,6 +293,7 @@ pub fn contact_case(
                 shear_modulus_pa: s.material.shear_modulus_pa(),
             },
             wheels,
+            warnings: warnings.iter().map(ToString::to_string).collect(),
         },
         st,
     ))
@@ -299,7 +303,8 @@ impl ContactCase {
     /// Human-readable form.
     pub fn to_text(&self) -> String {
         let w = &self.wheelset;
-        let mut out = format!(
+        let mut out: String = self.warnings.iter().map(|w| format!("{w}\n")).collect();
+        out += &format!(
             "wheelset  y = {:+.3} mm, yaw = {:+.3} mrad: height {:.6} m, roll {:+.6} rad\n",
             w.y_m * 1e3,
             w.yaw_rad * 1e3,

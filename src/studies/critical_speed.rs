@@ -480,10 +480,13 @@ pub fn hunting_mode(scene: &LoadedScene, law: CreepLawName, v: f64) -> Result<Op
     let s = scene.varied(&[Variation::Speed(v), Variation::CreepLaw(law)])?;
     let (track, _) = crate::session::track::load_track(&s)?;
     let vfile = crate::config::vehicle::VehicleFile::load(&s.path(&s.scene.vehicle.file))?;
-    let vehicle = crate::session::vehicle::vehicle_model(
+    // With `track.keep_longest_stretch` the profiles' warnings are those
+    // every run of the scene reports in its summary.
+    let (vehicle, _) = crate::session::vehicle::vehicle_model(
         &vfile,
         &track,
         &s.path(&s.scene.track.rail_profile),
+        s.scene.track.keep_longest_stretch,
     )?;
     let mut settings: SystemSettings =
         crate::session::settings::system_settings(&s, &vfile, &track)?;

@@ -365,18 +365,29 @@ fn parse_profile_deep(name: &str, text: &str) {
     let Ok(file) = parse_profile(&path, text, &ImportOptions::default()) else {
         return;
     };
-    let _ = WheelProfile::from_points(
-        &path,
-        &file.points_m,
-        file.z_down,
-        WheelProfileOptions::default(),
-    );
-    let _ = RailProfile::from_points(
-        &path,
-        &file.points_m,
-        file.z_down,
-        RailProfileOptions::default(),
-    );
+    // Both ways of choosing the stretch: refusing, and keeping the longest.
+    for keep_longest_stretch in [false, true] {
+        let _ = WheelProfile::from_points(
+            &path,
+            &file.points_m,
+            &file.lines,
+            file.z_down,
+            WheelProfileOptions {
+                keep_longest_stretch,
+                ..Default::default()
+            },
+        );
+        let _ = RailProfile::from_points(
+            &path,
+            &file.points_m,
+            &file.lines,
+            file.z_down,
+            RailProfileOptions {
+                keep_longest_stretch,
+                ..Default::default()
+            },
+        );
+    }
 }
 
 fn shipped_text(rel: &str) -> String {
@@ -555,7 +566,7 @@ fn regression_oversized_tracks_are_refused() {
 /// A two-column wheel profile with a point at y = 10²² m (a mutation of
 /// `TWO_COLUMNS`): building the wheel profile panicked with "capacity
 /// overflow" (its scan grid every 0.05 mm across the span); a profile
-/// wider than 2 m is now refused (`runtime::geometry::profile::MAX_PROFILE_SPAN_M`).
+/// wider than 0.5 m is now refused (`runtime::geometry::profile::MAX_PROFILE_SPAN_M`).
 #[test]
 fn regression_profile_spanning_1e22_m() {
     let text =
@@ -565,11 +576,13 @@ fn regression_profile_spanning_1e22_m() {
     let e = WheelProfile::from_points(
         path,
         &file.points_m,
+        &file.lines,
         file.z_down,
         WheelProfileOptions::default(),
     )
     .unwrap_err();
-    assert!(e.to_string().contains("spans"), "{e}");
+    assert!(e.to_string().contains("lateral span"), "{e}");
+    assert!(e.to_string().contains("check the unit"), "{e}");
     parse_profile_deep("w.dat", text);
 }
 

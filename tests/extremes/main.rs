@@ -16,4 +16,5 @@ mod motion;
 mod track;
 mod trust;
 mod trust_diagnostics;
+mod trust_profiles;
 mod trust_track;

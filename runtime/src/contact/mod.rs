@@ -26,8 +26,8 @@
 //!
 //! let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tables/profiles");
 //! let opts = ImportOptions::default();
-//! let wheel = load_wheel(&dir.join("MBench_S1002_v3.prw"), &opts, Default::default())?;
-//! let rail = load_rail(&dir.join("MBench_UIC60_v3.prr"), &opts, RailProfileOptions::default())?;
+//! let wheel = load_wheel(&dir.join("MBench_S1002_v3.prw"), &opts, Default::default())?.profile;
+//! let rail = load_rail(&dir.join("MBench_UIC60_v3.prr"), &opts, RailProfileOptions::default())?.profile;
 //! // Gauge 1435 mm, flange backs 1360 mm apart, rail origins 1507 mm apart
 //! // (the rail file is already canted 1:40).
 //! let placement = RailPlacement { gauge_m: 1.435, rail_spacing_m: 1.507, inclination_rad: 0.0 };

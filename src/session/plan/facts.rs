@@ -235,6 +235,8 @@ pub(super) fn track_facts(ls: &LoadedScene, range: [f64; 2]) -> Result<TrackFact
 pub(super) struct CheckModel<'a> {
     vehicle_file: &'a VehicleFile,
     rail: PathBuf,
+    /// The scene's `track.keep_longest_stretch`.
+    keep_longest_stretch: bool,
     /// The ideal straight.
     pub track: TrackTables,
     /// Where the vehicle's reference point starts on it (m).
@@ -265,6 +267,7 @@ impl<'a> CheckModel<'a> {
         Ok(CheckModel {
             vehicle_file: v,
             rail: ls.path(&t.rail_profile),
+            keep_longest_stretch: t.keep_longest_stretch,
             track: runtime::geometry::track::straight_track(length, 1.0, gauge, spacing, incl),
             s_start_m: s_start,
             vehicle: None,
@@ -292,7 +295,15 @@ impl<'a> CheckModel<'a> {
                 {
                     self.builds += 1;
                 }
-                crate::session::vehicle::vehicle_model(self.vehicle_file, &self.track, &self.rail)?
+                // The warnings of the profiles are the session's to show
+                // (it loads the same files with the same option).
+                crate::session::vehicle::vehicle_model(
+                    self.vehicle_file,
+                    &self.track,
+                    &self.rail,
+                    self.keep_longest_stretch,
+                )?
+                .0
             }
         };
         Ok((&self.track, self.vehicle.insert(model)))

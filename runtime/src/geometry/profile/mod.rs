@@ -24,13 +24,31 @@
 //! `y`); SIMPACK's `z` points down, the others' up. So `u = −y` and
 //! `z_up = ±z`. A [`FileMapping`] keeps the way back, so contact points can
 //! be reported in the file's own coordinates.
+//!
+//! # Which points are used
+//!
+//! One rule for every file format (module `stretch`,
+//! docs/reference/05-surfaces.md §5.3): the steep faces at a profile's ends are trimmed; a profile that
+//! folds back, repeats its lateral coordinate or breaks inside its usable
+//! stretch is refused at the file line of the first offending point, unless
+//! `keep_longest_stretch` asks for its longest usable stretch, which then
+//! comes with a [`ProfileWarning`] naming every dropped line. A profile
+//! whose size is implausible (lateral span, [`MIN_PROFILE_SPAN_M`] …
+//! [`MAX_PROFILE_SPAN_M`]; wheel flange height, [`MIN_FLANGE_HEIGHT_M`] …
+//! [`MAX_FLANGE_HEIGHT_M`]) is refused with "check the unit".
 
+mod bounds;
 mod curve;
 mod rail;
+mod stretch;
 mod wheel;
 
+pub use bounds::{
+    MAX_FLANGE_HEIGHT_M, MAX_PROFILE_SPAN_M, MIN_FLANGE_HEIGHT_M, MIN_PROFILE_SPAN_M,
+};
 pub use curve::{CurvePoint, ProfileCurve};
 pub use rail::{PlacedRailProfile, RailPlacement, RailProfile, RailProfileOptions};
+pub use stretch::ProfileWarning;
 pub use wheel::{MAX_SEGMENTS, WheelProfile, WheelProfileOptions, WheelSegment, Zone};
 
 use std::path::PathBuf;
@@ -80,6 +98,32 @@ pub enum ProfileError {
         radius_mm: f64,
         y_file_mm: f64,
     },
+    /// A rule broken at one point of the profile (e.g. the lateral
+    /// coordinate turning back), named by its file line.
+    #[error("'{path}', {}: {rule}", point_name(*line, *point))]
+    AtPoint {
+        path: PathBuf,
+        /// 1-based file line of the point; `None` for points not read from
+        /// a file.
+        line: Option<usize>,
+        /// 1-based number of the point in the order given.
+        point: usize,
+        rule: String,
+    },
+    /// A size outside its plausible range: most likely a wrong length
+    /// unit (docs/reference/02-inputs.md §2.6).
+    #[error(
+        "{path}: the {quantity} is {value_mm:.3} mm, outside the plausible {min_mm}–{max_mm} mm ({typical}): check the unit of the file's lengths"
+    )]
+    Implausible {
+        path: PathBuf,
+        quantity: &'static str,
+        value_mm: f64,
+        min_mm: f64,
+        max_mm: f64,
+        /// Typical values, for the message.
+        typical: &'static str,
+    },
     #[error("{path}: {source}")]
     Spline {
         path: PathBuf,
@@ -88,23 +132,59 @@ pub enum ProfileError {
     },
 }
 
-/// Widest lateral span of a profile (m): wheel and rail profiles span
-/// about 0.15 m, so anything beyond 2 m is a unit error or a broken file.
-pub const MAX_PROFILE_SPAN_M: f64 = 2.0;
+fn point_name(line: Option<usize>, point: usize) -> String {
+    match line {
+        Some(l) => format!("line {l}"),
+        None => format!("point {point}"),
+    }
+}
 
-/// Convert file points to sorted internal `(u, z)` points (right-hand
-/// convention, z up) and the mapping back. Points are kept in order of
-/// increasing `u`; the steep ends (faces steeper than `trim_angle_rad`, and
-/// any part where the profile folds back in `u`) are dropped, since the
-/// contact model describes a profile as a function z(u). A span wider than
-/// [`MAX_PROFILE_SPAN_M`] is refused.
+impl ProfileError {
+    /// The 1-based file line the error is about, when it is about one.
+    pub fn line(&self) -> Option<usize> {
+        match self {
+            Self::AtPoint { line, .. } => *line,
+            _ => None,
+        }
+    }
+}
+
+/// The points of a profile in the internal convention, ready to fit.
+pub(crate) struct InternalPoints {
+    /// Kept points, u increasing (m).
+    pub u: Vec<f64>,
+    pub z: Vec<f64>,
+    pub mapping: FileMapping,
+    /// Set when the longest stretch was kept instead of refusing the profile.
+    pub warning: Option<ProfileWarning>,
+}
+
+/// How to choose the points of a profile: the trim angle and whether to
+/// keep the longest usable stretch of a profile the rule refuses.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct StretchOptions {
+    pub trim_angle_rad: f64,
+    pub keep_longest_stretch: bool,
+}
+
+/// Convert file points to internal `(u, z)` points (right-hand convention,
+/// z up), oriented so that `u` increases, and the mapping back; `lines` are
+/// the file lines of the points (empty when they were not read from a file:
+/// messages then number the points). The points span laterally between
+/// [`MIN_PROFILE_SPAN_M`] and [`MAX_PROFILE_SPAN_M`] ("check the unit"
+/// otherwise), and the usable stretch is chosen by the rule of
+/// [`stretch`]: steep faces at the ends are trimmed, a profile that folds
+/// back, repeats its lateral coordinate or breaks inside is refused naming
+/// the line (or, with `keep_longest_stretch`, cut to its longest usable
+/// stretch with a warning).
 pub(crate) fn internal_points(
     path: &std::path::Path,
     points_file_m: &[[f64; 2]],
+    lines: &[usize],
     z_down: bool,
     y_offset_m: f64,
-    trim_angle_rad: f64,
-) -> Result<(Vec<f64>, Vec<f64>, FileMapping), ProfileError> {
+    options: StretchOptions,
+) -> Result<InternalPoints, ProfileError> {
     let mapping = FileMapping {
         y_sign: -1.0,
         y_offset_m,
@@ -115,74 +195,52 @@ pub(crate) fn internal_points(
         .iter()
         .map(|p| mapping.from_file(p[0], p[1]))
         .collect();
-    if pts.len() >= 2 && pts[0].0 > pts[pts.len() - 1].0 {
+    let mut lines: Vec<usize> = if lines.len() == pts.len() {
+        lines.to_vec()
+    } else {
+        Vec::new()
+    };
+    let reversed = pts.len() >= 2 && pts[0].0 > pts[pts.len() - 1].0;
+    if reversed {
         pts.reverse();
+        lines.reverse();
     }
-    let invalid = |rule: String| ProfileError::Invalid {
-        path: path.to_path_buf(),
-        rule,
-    };
     if pts.len() < 4 {
-        return Err(invalid(format!(
-            "a profile needs at least 4 points, found {}",
-            pts.len()
-        )));
+        return Err(ProfileError::Invalid {
+            path: path.to_path_buf(),
+            rule: format!("a profile needs at least 4 points, found {}", pts.len()),
+        });
     }
-    // Keep the longest run of segments that advance in u and are not steeper
-    // than the trim angle.
-    let max_slope = trim_angle_rad.tan();
-    let ok = |k: usize| {
-        let (a, b) = (pts[k], pts[k + 1]);
-        let du = b.0 - a.0;
-        du > 0.0 && ((b.1 - a.1) / du).abs() <= max_slope
+    let names = stretch::PointNames {
+        lines: &lines,
+        reversed,
+        n: pts.len(),
     };
-    let (mut best, mut run_start) = ((0usize, 0usize), None);
-    for k in 0..pts.len() - 1 {
-        match (ok(k), run_start) {
-            (true, None) => run_start = Some(k),
-            (false, Some(s)) => {
-                if k - s > best.1 - best.0 {
-                    best = (s, k);
-                }
-                run_start = None;
-            }
-            _ => {}
-        }
-    }
-    if let Some(s) = run_start
-        && pts.len() - 1 - s > best.1 - best.0
+    if let Some(p) = pts
+        .iter()
+        .position(|p| !(p.0.is_finite() && p.1.is_finite()))
     {
-        best = (s, pts.len() - 1);
+        return Err(ProfileError::AtPoint {
+            path: path.to_path_buf(),
+            line: (!lines.is_empty()).then(|| names.number(p)),
+            point: names.position(p),
+            rule: "the point is not finite".into(),
+        });
     }
-    let (first, last) = best; // segments first..last → points first..=last
-    if last - first < 3 {
-        return Err(invalid(format!(
-            "no usable stretch of at least 4 points where the profile is a function of the lateral coordinate with faces flatter than {:.0}°",
-            trim_angle_rad.to_degrees()
-        )));
-    }
-    let kept = &pts[first..=last];
-    // Wheel and rail profiles span about 0.15 m; the profiles are scanned
-    // every 0.05 mm, so a span of 10²² m (found by fuzzing) overflowed the
-    // scan grid's capacity, and one of 1 km would take 2 × 10⁷ points.
-    let span_m = kept[kept.len() - 1].0 - kept[0].0;
-    if span_m.is_nan() || span_m > MAX_PROFILE_SPAN_M {
-        return Err(invalid(format!(
-            "the profile spans {span_m:.4e} m laterally, more than {MAX_PROFILE_SPAN_M} m (a wheel or rail profile spans about 0.15 m): check the file's length unit"
-        )));
-    }
-    // Report interior fold-backs the trimming would silently cut away.
-    let dropped = pts.len() - kept.len();
-    if dropped * 2 > pts.len() {
-        return Err(invalid(format!(
-            "only {} of {} points form a single-valued profile z(y) (the rest are steep faces or fold back); check the file's point order and convention",
-            kept.len(),
-            pts.len()
-        )));
-    }
-    Ok((
-        kept.iter().map(|p| p.0).collect(),
-        kept.iter().map(|p| p.1).collect(),
+    bounds::check_span(path, pts.iter().map(|p| p.0))?;
+    let kept = stretch::usable_stretch(
+        path,
+        &pts,
+        &names,
+        &mapping,
+        options.trim_angle_rad,
+        options.keep_longest_stretch,
+    )?;
+    let kept_pts = &pts[kept.first..=kept.last];
+    Ok(InternalPoints {
+        u: kept_pts.iter().map(|p| p.0).collect(),
+        z: kept_pts.iter().map(|p| p.1).collect(),
         mapping,
-    ))
+        warning: kept.warning,
+    })
 }

@@ -3,7 +3,9 @@
 
 use std::path::{Path, PathBuf};
 
-use super::{FileMapping, ProfileCurve, ProfileError, internal_points};
+use super::{
+    FileMapping, ProfileCurve, ProfileError, ProfileWarning, StretchOptions, internal_points,
+};
 use crate::geometry::spline::Scheme;
 
 /// Sampling step for the convexity check (m).
@@ -26,6 +28,11 @@ pub struct RailProfileOptions {
     pub gauge_height_m: f64,
     /// Concave curvature tolerated on the head (1/m); larger is an error.
     pub max_concave_curvature_1_m: f64,
+    /// Keep the longest usable stretch of a profile that folds back,
+    /// repeats its lateral coordinate or breaks inside, instead of refusing
+    /// it; the profile then carries a warning naming the dropped lines
+    /// ([`RailProfile::warnings`]).
+    pub keep_longest_stretch: bool,
 }
 
 impl Default for RailProfileOptions {
@@ -35,6 +42,7 @@ impl Default for RailProfileOptions {
             trim_angle_rad: 80f64.to_radians(),
             gauge_height_m: 0.014,
             max_concave_curvature_1_m: super::wheel::CONVEXITY_TOLERANCE_1_M,
+            keep_longest_stretch: false,
         }
     }
 }
@@ -60,6 +68,7 @@ pub struct RailProfile {
     outline: Vec<(f64, f64)>,
     head: ProfileCurve,
     mapping: FileMapping,
+    warnings: Vec<ProfileWarning>,
 }
 
 /// A rail profile placed on its rail space curve: `z(u)` in the rail frame
@@ -77,15 +86,29 @@ pub struct PlacedRailProfile {
 }
 
 impl RailProfile {
-    /// Build from profile-file points (m, file convention).
+    /// Build from profile-file points (m, file convention). `path` and
+    /// `lines` (the file line of each point; empty for points not read from
+    /// a file) are used in messages.
     pub fn from_points(
         path: &Path,
         points_file_m: &[[f64; 2]],
+        lines: &[usize],
         z_down: bool,
         options: RailProfileOptions,
     ) -> Result<Self, ProfileError> {
-        let (u, z, mapping) =
-            internal_points(path, points_file_m, z_down, 0.0, options.trim_angle_rad)?;
+        let kept = internal_points(
+            path,
+            points_file_m,
+            lines,
+            z_down,
+            0.0,
+            StretchOptions {
+                trim_angle_rad: options.trim_angle_rad,
+                keep_longest_stretch: options.keep_longest_stretch,
+            },
+        )?;
+        let (u, z, mapping) = (kept.u, kept.z, kept.mapping);
+        let warnings: Vec<ProfileWarning> = kept.warning.into_iter().collect();
         let head =
             ProfileCurve::fit(options.scheme, &u, &z, u[0], u[u.len() - 1]).map_err(|source| {
                 ProfileError::Spline {
@@ -117,12 +140,19 @@ impl RailProfile {
             outline,
             head,
             mapping,
+            warnings,
         })
     }
 
     /// The file it came from.
     pub fn path(&self) -> &Path {
         &self.path
+    }
+
+    /// Warnings of the build: the points dropped when the longest usable
+    /// stretch was kept ([`RailProfileOptions::keep_longest_stretch`]).
+    pub fn warnings(&self) -> &[ProfileWarning] {
+        &self.warnings
     }
 
     /// Place the profile on its rail: rotate the outline into the track

@@ -38,11 +38,18 @@
 //! contact on a concave stretch is Hertzian is then decided by its relative
 //! curvature ([`crate::forces::hertz`]).
 //!
-//! A profile without a flange deeper than 10 mm is a plain tread.
+//! Every wheel has a flange: a flange height (depth of the flange tip
+//! below the tread at the taping line) outside
+//! [`MIN_FLANGE_HEIGHT_M`](super::MIN_FLANGE_HEIGHT_M) …
+//! [`MAX_FLANGE_HEIGHT_M`](super::MAX_FLANGE_HEIGHT_M) is refused ("check
+//! the unit").
 
 use std::path::{Path, PathBuf};
 
-use super::{FileMapping, ProfileCurve, ProfileError, internal_points};
+use super::{
+    FileMapping, ProfileCurve, ProfileError, ProfileWarning, StretchOptions, bounds,
+    internal_points,
+};
 use crate::geometry::spline::Scheme;
 
 /// Concave curvature tolerated where a region must be convex (1/m): a
@@ -52,9 +59,6 @@ pub const CONVEXITY_TOLERANCE_1_M: f64 = 1.0;
 
 /// Most pieces a wheel profile may be split into.
 pub const MAX_SEGMENTS: usize = 6;
-
-/// Depth below which a profile has no flange (m).
-const MIN_FLANGE_DEPTH_M: f64 = 0.010;
 
 /// Sampling step used to locate the regions (m).
 const SCAN_STEP_M: f64 = 5e-5;
@@ -76,12 +80,13 @@ const FIELD_SIDE_M: f64 = 0.040;
 /// point may lie before the trimming is said to have cut the flange off (m).
 const FLANGE_LOST_TOLERANCE_M: f64 = 0.001;
 
-/// The trimming of steep faces ([`super::internal_points`] keeps the longest
-/// stretch with faces no steeper than the trim angle) must not cut away the
-/// flange: a flank steeper than the trim angle between the tread and the
-/// tip would otherwise leave a wheel without its flange — silently, when
-/// the tread holds most of the points — and the wheelset would run through
-/// its rails. That is an error naming the tip and the steepest face.
+/// The trimming of steep faces at the profile's ends (the usable stretch,
+/// [`super::internal_points`]) must not cut away the flange: a flank
+/// steeper than the trim angle beyond which the profile never flattens
+/// again (a steep face inside the stretch is refused at its line already),
+/// or the longest stretch kept with `keep_longest_stretch`, would otherwise
+/// leave a wheel without its flange, and the wheelset would run through its
+/// rails. That is an error naming the tip and the steepest face.
 fn check_flange_kept(
     path: &Path,
     points_file_m: &[[f64; 2]],
@@ -171,6 +176,11 @@ pub struct WheelProfileOptions {
     pub throat_radius_m: f64,
     /// Faces steeper than this (rad) at the profile's ends are dropped.
     pub trim_angle_rad: f64,
+    /// Keep the longest usable stretch of a profile that folds back,
+    /// repeats its lateral coordinate or breaks inside, instead of refusing
+    /// it; the profile then carries a warning naming the dropped lines
+    /// ([`WheelProfile::warnings`]).
+    pub keep_longest_stretch: bool,
 }
 
 impl Default for WheelProfileOptions {
@@ -182,6 +192,7 @@ impl Default for WheelProfileOptions {
             taping_line_y_m: 0.0,
             throat_radius_m: 0.020,
             trim_angle_rad: 80f64.to_radians(),
+            keep_longest_stretch: false,
         }
     }
 }
@@ -204,14 +215,17 @@ pub struct WheelProfile {
     splits_m: Vec<f64>,
     flange_tip_u_m: Option<f64>,
     mapping: FileMapping,
+    warnings: Vec<ProfileWarning>,
 }
 
 impl WheelProfile {
     /// Build from profile-file points (m, file convention; `z_down` as the
-    /// file's format says). `path` is used in messages.
+    /// file's format says). `path` and `lines` (the file line of each
+    /// point; empty for points not read from a file) are used in messages.
     pub fn from_points(
         path: &Path,
         points_file_m: &[[f64; 2]],
+        lines: &[usize],
         z_down: bool,
         options: WheelProfileOptions,
     ) -> Result<Self, ProfileError> {
@@ -225,13 +239,19 @@ impl WheelProfile {
                 options.nominal_radius_m
             )));
         }
-        let (u, z, mut mapping) = internal_points(
+        let kept = internal_points(
             path,
             points_file_m,
+            lines,
             z_down,
             options.taping_line_y_m,
-            options.trim_angle_rad,
+            StretchOptions {
+                trim_angle_rad: options.trim_angle_rad,
+                keep_longest_stretch: options.keep_longest_stretch,
+            },
         )?;
+        let (u, z, mut mapping) = (kept.u, kept.z, kept.mapping);
+        let warnings: Vec<ProfileWarning> = kept.warning.into_iter().collect();
         check_flange_kept(
             path,
             points_file_m,
@@ -275,25 +295,25 @@ impl WheelProfile {
             .enumerate()
             .min_by(|a, b| a.1.total_cmp(&b.1))
             .expect("non-empty grid");
-        let has_flange = -tip_z >= MIN_FLANGE_DEPTH_M;
-        if has_flange && grid[tip] <= 0.0 {
+        bounds::check_flange_height(path, -tip_z)?;
+        if grid[tip] <= 0.0 {
             return Err(invalid(
                 "the flange lies on the field side of the taping line: the file's lateral axis seems mirrored (y must grow towards the field side, flange at negative y); import it with mirror_y".into(),
             ));
         }
         // The flange's inflection: walking from the tip towards the tread, the
         // first point where the profile turns concave.
-        let inflection = has_flange.then(|| {
+        let inflection = {
             let mut k = tip;
             while k > 0 && kappa[k] >= -CONVEXITY_TOLERANCE_1_M {
                 k -= 1;
             }
             k
-        });
+        };
         // Split at the most concave point of every sharply concave stretch
         // (on the flange side only up to the tip).
         let kappa_throat = 1.0 / options.throat_radius_m;
-        let last = if has_flange { tip } else { n };
+        let last = tip;
         let mut splits = Vec::new();
         let mut i = 0;
         while i <= last {
@@ -311,9 +331,8 @@ impl WheelProfile {
         }
         // A flange always gets its own piece: without a sharp throat, split at
         // the most concave point of the 25 mm before the inflection.
-        if let Some(k) = inflection
-            && !splits.iter().any(|&u| u > 0.0 && u < grid[tip])
-        {
+        if !splits.iter().any(|&u| u > 0.0 && u < grid[tip]) {
+            let k = inflection;
             let taping = grid.partition_point(|&x| x < 0.0).min(n);
             let reach = (THROAT_SEARCH_M / SCAN_STEP_M) as usize;
             let lo = k.saturating_sub(reach).max(taping);
@@ -356,7 +375,7 @@ impl WheelProfile {
                 let holds_tip = a <= grid[tip] + 1e-12 && b >= grid[tip] - 1e-12;
                 let steep = ((whole.at(b).z_m - whole.at(a).z_m) / (b - a)).abs() > 1.0;
                 WheelSegment {
-                    zone: if has_flange && (holds_tip || (steep && a > 0.0)) {
+                    zone: if holds_tip || (steep && a > 0.0) {
                         Zone::Flange
                     } else {
                         Zone::Tread
@@ -371,8 +390,9 @@ impl WheelProfile {
             options,
             segments,
             splits_m,
-            flange_tip_u_m: has_flange.then_some(grid[tip]),
+            flange_tip_u_m: Some(grid[tip]),
             mapping,
+            warnings,
         })
     }
 
@@ -450,6 +470,12 @@ impl WheelProfile {
     pub fn path(&self) -> &Path {
         &self.path
     }
+
+    /// Warnings of the build: the points dropped when the longest usable
+    /// stretch was kept ([`WheelProfileOptions::keep_longest_stretch`]).
+    pub fn warnings(&self) -> &[ProfileWarning] {
+        &self.warnings
+    }
 }
 
 /// Curvature over a window: the change of the slope angle across
@@ -492,7 +518,7 @@ mod tests {
 
     /// Found by fuzzing (tests/extremes/fuzz.rs): a point at y = 10²² m
     /// overflowed the scan grid's capacity (a panic); a profile wider than
-    /// 2 m is now an error, for wheels and rails alike.
+    /// 0.5 m is now an error, for wheels and rails alike.
     #[test]
     fn a_profile_spanning_kilometres_is_refused() {
         let pts = [
@@ -505,40 +531,49 @@ mod tests {
             [0.06, 0.0035],
         ];
         let path = Path::new("w.dat");
-        let e = WheelProfile::from_points(path, &pts, false, WheelProfileOptions::default())
+        let e = WheelProfile::from_points(path, &pts, &[], false, WheelProfileOptions::default())
             .unwrap_err();
-        assert!(e.to_string().contains("spans"), "{e}");
+        assert!(e.to_string().contains("lateral span"), "{e}");
+        assert!(e.to_string().contains("check the unit"), "{e}");
         let wide: Vec<[f64; 2]> = (0..50).map(|k| [k as f64 * 0.1, 0.0]).collect();
         let e = crate::geometry::profile::RailProfile::from_points(
             path,
             &wide,
+            &[],
             false,
             crate::geometry::profile::RailProfileOptions::default(),
         )
         .unwrap_err();
-        assert!(e.to_string().contains("spans 4.9"), "{e}");
+        assert!(e.to_string().contains("is 4900.000 mm"), "{e}");
     }
 
+    /// Every wheel has a flange (tables/ ships none without one): a plain
+    /// cone is refused with its flange height and the bound.
     #[test]
-    fn flangeless_cone_is_one_tread_piece() {
+    fn a_wheel_without_a_flange_is_refused() {
         let pts: Vec<[f64; 2]> = (0..200)
             .map(|k| {
                 let u = -0.06 + k as f64 * 0.0006;
                 [-u, -u / 20.0]
             })
             .collect();
-        let w = WheelProfile::from_points(
+        let e = WheelProfile::from_points(
             Path::new("cone"),
             &pts,
+            &[],
             false,
             WheelProfileOptions::default(),
         )
-        .unwrap();
-        assert_eq!(w.segments().len(), 1);
-        assert_eq!(w.segments()[0].zone, Zone::Tread);
-        assert!(w.flange_tip_u_m().is_none());
-        // Radius grows 1 mm per 20 mm towards the (missing) flange.
-        assert!((w.radius_m(0.02) - (0.46 + 0.001)).abs() < 1e-9);
+        .unwrap_err();
+        let msg = e.to_string();
+        assert!(
+            // The lowest point, 1:20 below the taping line at u = 59.4 mm.
+            matches!(e, ProfileError::Implausible { value_mm, .. } if (value_mm - 2.97).abs() < 1e-6),
+            "{msg}"
+        );
+        for needle in ["flange height", "10–50 mm", "check the unit", "cone"] {
+            assert!(msg.contains(needle), "{needle}: {msg}");
+        }
     }
 
     #[test]
@@ -546,6 +581,7 @@ mod tests {
         let w = WheelProfile::from_points(
             Path::new("flanged"),
             &cone_with_flange(),
+            &[],
             false,
             WheelProfileOptions::default(),
         )
@@ -564,6 +600,7 @@ mod tests {
         let e = WheelProfile::from_points(
             Path::new("mirrored"),
             &pts,
+            &[],
             false,
             WheelProfileOptions::default(),
         )
@@ -585,6 +622,7 @@ mod tests {
         let w = WheelProfile::from_points(
             Path::new("dented"),
             &pts,
+            &[],
             false,
             WheelProfileOptions::default(),
         )
@@ -595,17 +633,24 @@ mod tests {
 
     #[test]
     fn a_noisy_profile_is_an_error() {
-        // Sharp zig-zags every 4 mm: far more kinks than pieces allowed.
-        let pts: Vec<[f64; 2]> = (0..=220)
-            .map(|k| {
-                let u = -0.06 + k as f64 * 0.0005;
-                let zig = if (k / 4) % 2 == 0 { 0.0 } else { 0.0004 };
-                [-u, -u / 20.0 + zig]
+        // Sharp zig-zags every 2 mm on the tread: far more kinks than pieces
+        // allowed.
+        let pts: Vec<[f64; 2]> = cone_with_flange()
+            .into_iter()
+            .enumerate()
+            .map(|(k, [y, z])| {
+                let zig = if -y < 0.02 && (k / 4) % 2 == 1 {
+                    0.0004
+                } else {
+                    0.0
+                };
+                [y, z + zig]
             })
             .collect();
         let e = WheelProfile::from_points(
             Path::new("noisy"),
             &pts,
+            &[],
             false,
             WheelProfileOptions::default(),
         )

@@ -58,8 +58,8 @@ pub(super) fn parse_plain(path: &Path, text: &str) -> Result<RawProfile, E> {
                 found: fields.len(),
             });
         }
-        let y = number(path, line, || "y (column 1)".into(), &fields[0])?;
-        let z = number(path, line, || "z (column 2)".into(), &fields[1])?;
+        let y = number(path, line, Some(1), || "y".into(), &fields[0])?;
+        let z = number(path, line, Some(2), || "z".into(), &fields[1])?;
         points.push(RawPoint {
             y,
             z,
@@ -175,7 +175,8 @@ pub(super) fn parse_csv(path: &Path, text: &str) -> Result<RawProfile, E> {
         } => E::NotANumber {
             path: path.to_path_buf(),
             line,
-            what: format!("{} (column {column})", coordinate(column)),
+            column: Some(column),
+            what: coordinate(column).into(),
             text,
         },
         CsvError::NonFinite {
@@ -183,7 +184,8 @@ pub(super) fn parse_csv(path: &Path, text: &str) -> Result<RawProfile, E> {
         } => E::NonFinite {
             path: path.to_path_buf(),
             line,
-            what: format!("{} (column {column})", coordinate(column)),
+            column: Some(column),
+            what: coordinate(column).into(),
             text,
         },
         other => E::Syntax {
@@ -269,12 +271,12 @@ mod tests {
             (
                 "0 0\n1 1\n2 abc\n3 3\n",
                 3,
-                |e| matches!(e, E::NotANumber { what, text, .. } if what.starts_with('z') && text == "abc"),
+                |e| matches!(e, E::NotANumber { what, text, column: Some(2), .. } if what == "z" && text == "abc"),
             ),
             (
                 "0 0\nx 1\n",
                 2,
-                |e| matches!(e, E::NotANumber { what, .. } if what.starts_with('y')),
+                |e| matches!(e, E::NotANumber { what, column: Some(1), .. } if what == "y"),
             ),
             ("0 0\n1 nan\n", 2, |e| matches!(e, E::NonFinite { .. })),
             ("0 0\n1 inf\n", 2, |e| matches!(e, E::NonFinite { .. })),
@@ -295,10 +297,11 @@ mod tests {
             let e = parse("w.dat", text).expect_err(text);
             assert!(check(&e), "{text:?} → {e:?}");
             assert_eq!(e.line(), Some(line), "{text:?} → {e}");
+            let at = format!("'w.dat', line {line}");
+            let msg = e.to_string();
             assert!(
-                e.to_string()
-                    .starts_with(&format!("'w.dat', line {line}: ")),
-                "{e}"
+                msg.starts_with(&format!("{at}: ")) || msg.starts_with(&format!("{at}, column ")),
+                "{msg}"
             );
         }
         // A Miniprof header line is not silently skipped.
@@ -363,12 +366,12 @@ mod tests {
             (
                 "y,z\n0,0\n1,x\n",
                 3,
-                |e| matches!(e, E::NotANumber { what, .. } if what == "z (column 2)"),
+                |e| matches!(e, E::NotANumber { what, column: Some(2), .. } if what == "z"),
             ),
             (
                 "z,y\n0,0\n1,1e999\n",
                 3,
-                |e| matches!(e, E::NonFinite { what, .. } if what == "y (column 2)"),
+                |e| matches!(e, E::NonFinite { what, column: Some(2), .. } if what == "y"),
             ),
             ("y,z\n0,0\n1,1\n2,2\n", 4, |e| {
                 matches!(e, E::TooFewPoints { found: 3, .. })
@@ -378,10 +381,11 @@ mod tests {
             let e = parse("p.csv", text).expect_err(text);
             assert!(check(&e), "{text:?} → {e:?}");
             assert_eq!(e.line(), Some(line), "{text:?} → {e}");
+            let at = format!("'p.csv', line {line}");
+            let msg = e.to_string();
             assert!(
-                e.to_string()
-                    .starts_with(&format!("'p.csv', line {line}: ")),
-                "{e}"
+                msg.starts_with(&format!("{at}: ")) || msg.starts_with(&format!("{at}, column ")),
+                "{msg}"
             );
         }
     }

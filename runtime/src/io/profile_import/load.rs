@@ -1,12 +1,27 @@
 //! Read a profile file and build the wheel or rail profile of the internal
-//! convention ([`crate::geometry::profile`]) from it, in one call.
+//! convention ([`crate::geometry::profile`]) from it, in one call. The
+//! result carries the warnings of the build ([`Loaded::warnings`]) for the
+//! caller to show: a profile cut to its longest usable stretch
+//! (`keep_longest_stretch`) names every line it dropped.
 
 use std::path::Path;
 
 use super::{ImportOptions, ProfileImportError, ProfileKind, read_profile};
 use crate::geometry::profile::{
-    ProfileError, RailProfile, RailProfileOptions, WheelProfile, WheelProfileOptions,
+    ProfileError, ProfileWarning, RailProfile, RailProfileOptions, WheelProfile,
+    WheelProfileOptions,
 };
+
+/// A profile loaded from its file, with the warnings the caller must show
+/// (print them, or put them in its summary).
+#[derive(Debug, Clone, PartialEq)]
+#[must_use = "a loaded profile carries warnings to show"]
+pub struct Loaded<P> {
+    pub profile: P,
+    /// What the build dropped and why (empty for a profile built from all
+    /// its usable points).
+    pub warnings: Vec<ProfileWarning>,
+}
 
 /// Why a profile could not be loaded.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -50,15 +65,15 @@ pub fn load_wheel(
     path: &Path,
     import: &ImportOptions,
     options: WheelProfileOptions,
-) -> Result<WheelProfile, ProfileLoadError> {
+) -> Result<Loaded<WheelProfile>, ProfileLoadError> {
     let file = read_profile(path, import)?;
     check_kind(path, file.kind, ProfileKind::Wheel)?;
-    Ok(WheelProfile::from_points(
-        path,
-        &file.points_m,
-        file.z_down,
-        options,
-    )?)
+    let profile =
+        WheelProfile::from_points(path, &file.points_m, &file.lines, file.z_down, options)?;
+    Ok(Loaded {
+        warnings: profile.warnings().to_vec(),
+        profile,
+    })
 }
 
 /// Load a rail profile file.
@@ -66,13 +81,13 @@ pub fn load_rail(
     path: &Path,
     import: &ImportOptions,
     options: RailProfileOptions,
-) -> Result<RailProfile, ProfileLoadError> {
+) -> Result<Loaded<RailProfile>, ProfileLoadError> {
     let file = read_profile(path, import)?;
     check_kind(path, file.kind, ProfileKind::Rail)?;
-    Ok(RailProfile::from_points(
-        path,
-        &file.points_m,
-        file.z_down,
-        options,
-    )?)
+    let profile =
+        RailProfile::from_points(path, &file.points_m, &file.lines, file.z_down, options)?;
+    Ok(Loaded {
+        warnings: profile.warnings().to_vec(),
+        profile,
+    })
 }

@@ -42,7 +42,8 @@
 //! # What is checked
 //!
 //! Every error names the file, the 1-based line and the rule broken
-//! ([`ProfileImportError`]): a value that is not a number or not finite, a
+//! ([`ProfileImportError`]): a value that is not a number or not finite
+//! (and its column), a
 //! row with the wrong number of values, fewer than [`MIN_POINTS`] points
 //! (after the file's processing), two consecutive equal points, a SIMPACK
 //! file without a point block, with an unknown key, a duplicated key, badly
@@ -57,15 +58,23 @@
 //! Points are **never sorted or reordered** (except by a SIMPACK
 //! `inversion = 1`, which the file asks for). Whether y is strictly
 //! monotone is reported in [`ProfileFile::y_order`]: profiles with vertical
-//! faces can repeat or reverse y, and what to do about it is the caller's
-//! decision. Each point keeps the line it came from ([`ProfileFile::lines`]),
-//! so later checks can name it too ([`ProfileFile::error_at`]).
+//! faces can repeat or reverse y. Each point keeps the line it came from
+//! ([`ProfileFile::lines`]), so later checks can name it too
+//! ([`ProfileFile::error_at`]): building a wheel or rail profile
+//! ([`load_wheel`], [`load_rail`]) passes the lines on, and the one rule of
+//! the usable stretch (the same for every format,
+//! docs/reference/05-surfaces.md §5.3) refuses a profile that folds back or
+//! repeats y inside it at the line of the first offending point.
+//!
+//! A UTF-8 byte order mark at the start of the text is skipped in every
+//! format. A value that is not a number names the file, the line and, in a
+//! row of numbers, the column (the 1-based field).
 
 mod columns;
 mod load;
 mod simpack;
 
-pub use load::{ProfileLoadError, load_rail, load_wheel};
+pub use load::{Loaded, ProfileLoadError, load_rail, load_wheel};
 
 pub use simpack::SimpackSettings;
 
@@ -217,20 +226,26 @@ pub enum ProfileImportError {
     Io { path: PathBuf, message: String },
     #[error("'{path}': invalid import option: {rule}")]
     InvalidOption { path: PathBuf, rule: String },
-    #[error("'{path}', line {line}: {what}: '{text}' is not a number")]
+    #[error("'{path}', line {line}{}: {what}: '{text}' is not a number", column_note(*column))]
     NotANumber {
         path: PathBuf,
         line: usize,
-        /// Which value (e.g. "z (column 2)", "value of 'shift.y'").
+        /// 1-based column (field) of the value in its row; `None` for a
+        /// value that is not in a row of numbers (a SIMPACK key's value).
+        column: Option<usize>,
+        /// Which value (e.g. "z", "value of 'shift.y'").
         what: String,
         text: String,
     },
     #[error(
-        "'{path}', line {line}: {what}: '{text}' is not finite (every value must be a finite number)"
+        "'{path}', line {line}{}: {what}: '{text}' is not finite (every value must be a finite number)",
+        column_note(*column)
     )]
     NonFinite {
         path: PathBuf,
         line: usize,
+        /// As for `NotANumber`.
+        column: Option<usize>,
         what: String,
         text: String,
     },
@@ -326,6 +341,11 @@ pub enum ProfileImportError {
         line: usize,
         rule: String,
     },
+}
+
+/// ", column N" when there is a column.
+fn column_note(column: Option<usize>) -> String {
+    column.map_or(String::new(), |c| format!(", column {c}"))
 }
 
 /// Part of the "too few points" message.
@@ -525,6 +545,7 @@ fn finish(
                 return Err(ProfileImportError::NonFinite {
                     path: path.to_path_buf(),
                     line: p.line,
+                    column: None,
                     what: format!("{what} after processing and unit conversion"),
                     text: v.to_string(),
                 });
@@ -598,10 +619,12 @@ fn y_order(points: &[[f64; 2]], lines: &[usize]) -> YOrder {
 }
 
 /// [`parse_number`] (the workspace's one number reader) with the error
-/// located at `line` and described by `what`.
+/// located at `line` and `column` (1-based field of a row, if any) and
+/// described by `what`.
 fn number(
     path: &Path,
     line: usize,
+    column: Option<usize>,
     what: impl Fn() -> String,
     token: &str,
 ) -> Result<f64, ProfileImportError> {
@@ -609,12 +632,14 @@ fn number(
         NumberError::NotANumber => ProfileImportError::NotANumber {
             path: path.to_path_buf(),
             line,
+            column,
             what: what(),
             text: token.to_string(),
         },
         NumberError::NonFinite => ProfileImportError::NonFinite {
             path: path.to_path_buf(),
             line,
+            column,
             what: what(),
             text: token.to_string(),
         },
@@ -786,16 +811,78 @@ mod tests {
         assert!(!f.is_empty());
     }
 
+    /// Every format, by extension and by content, and read from a file:
+    /// a UTF-8 byte order mark (Windows editors write one) is not data.
     #[test]
-    fn a_byte_order_mark_is_ignored() {
-        let f = plain("\u{feff}0 0\n1 1\n2 4\n3 9\n").unwrap();
-        assert_eq!(f.len(), 4);
-        let f = parse_profile(
-            Path::new("p.txt"),
-            "\u{feff}spline.begin\npoint.begin\n0 0\n1 1\n2 4\n3 9\npoint.end\nspline.end\n",
-            &ImportOptions::default(),
-        )
-        .unwrap();
-        assert_eq!(f.format, ProfileFormat::Simpack);
+    fn a_byte_order_mark_is_ignored_in_every_format() {
+        let simpack = |t: i64| {
+            format!(
+                "header.begin\nversion = 1\ntype = {t}\nheader.end\nspline.begin\npoint.begin\n0 0\n1 1\n2 4\n3 9\npoint.end\nspline.end\n"
+            )
+        };
+        let bare = "spline.begin\npoint.begin\n0 0\n1 1\n2 4\n3 9\npoint.end\nspline.end\n";
+        let cases = [
+            ("w.prw", simpack(1), ProfileFormat::Simpack),
+            ("r.prr", simpack(0), ProfileFormat::Simpack),
+            ("p.txt", bare.to_string(), ProfileFormat::Simpack),
+            ("p.dat", SQUARE.to_string(), ProfileFormat::Plain),
+            (
+                "p.csv",
+                format!("y_mm,z_mm\n{}", SQUARE.replace(' ', ",")),
+                ProfileFormat::Csv,
+            ),
+            (
+                "q.csv",
+                format!("# c\ny,z\n{}", SQUARE.replace(' ', ",")),
+                ProfileFormat::Csv,
+            ),
+        ];
+        let dir = std::env::temp_dir().join(format!("profile_bom_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        for (name, text, format) in cases {
+            let plain = parse_profile(Path::new(name), &text, &ImportOptions::default())
+                .unwrap_or_else(|e| panic!("{name}: {e}"));
+            let with_bom = format!("\u{feff}{text}");
+            let f = parse_profile(Path::new(name), &with_bom, &ImportOptions::default())
+                .unwrap_or_else(|e| panic!("{name} with a BOM: {e}"));
+            assert_eq!(f.format, format, "{name}");
+            assert_eq!(f.points_m, plain.points_m, "{name}");
+            assert_eq!(f.lines, plain.lines, "{name}");
+            let path = dir.join(name);
+            std::fs::write(&path, with_bom.as_bytes()).unwrap();
+            let f = read_profile(&path, &ImportOptions::default())
+                .unwrap_or_else(|e| panic!("{name} read with a BOM: {e}"));
+            assert_eq!(f.points_m, plain.points_m, "{name}");
+        }
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    /// A number that does not parse names the file, the line and the
+    /// column (field) in every format.
+    #[test]
+    fn a_bad_number_names_file_line_and_column() {
+        let cases = [
+            ("p.dat", "0 0\n1 1\n2 x4\n3 9\n", 3, 2),
+            ("p.dat", "0 0\n1,1\nq,4\n3 9\n", 3, 1),
+            ("p.csv", "z_mm,y_mm\n0,0\n1,1\n2,4\n9,3o\n", 5, 2),
+            (
+                "r.prr",
+                "spline.begin\npoint.begin\n0 0\n1 1\n2 4 1e\n3 9\npoint.end\nspline.end\n",
+                5,
+                3,
+            ),
+        ];
+        for (name, text, line, column) in cases {
+            let e = parse_profile(Path::new(name), text, &ImportOptions::default()).unwrap_err();
+            assert!(
+                matches!(e, ProfileImportError::NotANumber { column: Some(c), .. } if c == column),
+                "{name}: {e:?}"
+            );
+            assert!(
+                e.to_string()
+                    .starts_with(&format!("'{name}', line {line}, column {column}: ")),
+                "{e}"
+            );
+        }
     }
 }

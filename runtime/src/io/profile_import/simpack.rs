@@ -422,10 +422,10 @@ fn point_row(path: &Path, line: usize, s: &str) -> Result<RawPoint, E> {
             found: fields.len(),
         });
     }
-    let names = ["y (column 1)", "z (column 2)", "weight (column 3)"];
+    let names = ["y", "z", "weight"];
     let mut v = [0.0, 0.0, 1.0];
     for (k, f) in fields.iter().enumerate() {
-        v[k] = number(path, line, || names[k].to_string(), f)?;
+        v[k] = number(path, line, Some(k + 1), || names[k].to_string(), f)?;
     }
     if v[2] < 0.0 {
         return Err(E::UnsupportedValue {
@@ -501,6 +501,7 @@ impl<'a> Ctx<'a> {
                 number(
                     self.path,
                     e.line,
+                    None,
                     || format!("value of '{key}'"),
                     e.value.trim(),
                 )
@@ -1135,7 +1136,7 @@ mod tests {
             (file(0, "", "1 1\n2 2 -1\n3 3\n4 4"), 10, |e| matches!(e, E::UnsupportedValue { key, .. } if key == "weight")),
             (file(0, "shift.y = abc", FOUR), 7, |e| matches!(e, E::NotANumber { what, .. } if what.contains("shift.y"))),
             (file(0, "rotate = nan", FOUR), 7, |e| matches!(e, E::NonFinite { .. })),
-            (file(0, "", "1 1\n2 x\n3 3\n4 4"), 10, |e| matches!(e, E::NotANumber { what, .. } if what.starts_with('z'))),
+            (file(0, "", "1 1\n2 x\n3 3\n4 4"), 10, |e| matches!(e, E::NotANumber { what, column: Some(2), .. } if what == "z")),
             (file(0, "", "1 1\n2 2\n3 1e400\n4 4"), 11, |e| matches!(e, E::NonFinite { .. })),
             (file(0, "", "1 1\n2 2 1 1\n3 3\n4 4"), 10, |e| matches!(e, E::FieldCount { found: 4, .. })),
             (file(0, "", "1 1\n2\n3 3\n4 4"), 10, |e| matches!(e, E::FieldCount { found: 1, .. })),
@@ -1164,7 +1165,11 @@ mod tests {
             assert!(check(&e), "{text}\n→ {e:?}");
             assert_eq!(e.line(), Some(line), "{text}\n→ {e}");
             let msg = e.to_string();
-            assert!(msg.starts_with(&format!("'r.prr', line {line}: ")), "{msg}");
+            let at = format!("'r.prr', line {line}");
+            assert!(
+                msg.starts_with(&format!("{at}: ")) || msg.starts_with(&format!("{at}, column ")),
+                "{msg}"
+            );
         }
     }
 
