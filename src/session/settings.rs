@@ -35,7 +35,10 @@ pub fn system_settings(
     let creep_law = scene.creep_law()?;
     let method = match scene.contact.method {
         ContactMethodKind::Table => {
-            ContactMethod::Table(contact_tables(vfile, track, &rail_path, material)?)
+            let declared = scene.track.declared_rail_cant()?.map(|c| c.angle_rad);
+            ContactMethod::Table(contact_tables(
+                vfile, track, &rail_path, declared, material,
+            )?)
         }
         ContactMethodKind::Imported => {
             let path = ls.path(

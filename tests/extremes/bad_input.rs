@@ -33,6 +33,7 @@ scheme = "cubic"
 gauge_m = 1.435
 rail_inclination = "1:40"
 rail_profile = "{rail}"
+rail_profile_cant = "1:40"
 
 [vehicle]
 file = "{vehicle}"

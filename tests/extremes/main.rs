@@ -15,3 +15,4 @@ mod fuzz;
 mod motion;
 mod track;
 mod trust;
+mod trust_inclination;

@@ -27,6 +27,7 @@
 
 mod curve;
 mod rail;
+pub mod rail_cant;
 mod wheel;
 
 pub use curve::{CurvePoint, ProfileCurve};

@@ -7,11 +7,12 @@
 //! ```text
 //! /                         attributes: schema_version (u32), tool, tool_version,
 //!                           scheme, step_m, gauge_m, rail_spacing_m, cant_base_m,
-//!                           rail_inclination, rail_inclination_rad, length_m
+//!                           rail_inclination, rail_inclination_rad, length_m;
+//!                           with a rail profile: rail_profile, rail_profile_sha256,
+//!                           rail_profile_cant_rad, rail_profile_cant_source
 //! /centerline/database      N×23 f64, attributes `columns`, `units`
 //! /left_rail/database       M×13 f64 (L x y z tx ty tz nx ny nz bx by bz)
 //! /right_rail/database      K×13 f64
-//! /contact_table/…          optional: the contact lookup table (see below)
 //! /contact_table/…          optional: the contact lookup table (see below)
 //! /imported_contact_table/… optional: a contact table from another code
 //!                           (`track-preproc import-contact-table`; layout in `imported`)
@@ -51,8 +52,8 @@ pub use results_file::{
     RESULTS_SCHEMA, RESULTS_SCHEMA_VERSION, RESULTS_TOOL, read_results, write_results,
 };
 pub use track::{
-    TableFileWriter, read_contact_table, read_provenance, read_track, write_contact_table_file,
-    write_track_file,
+    TableFileWriter, read_contact_table, read_provenance, read_track, read_track_meta,
+    write_contact_table_file, write_track_file,
 };
 
 use std::path::PathBuf;
