@@ -254,6 +254,11 @@ impl BuildArgs {
     pub fn to_request(&self, command_line: String) -> Result<BuildRequest> {
         let scheme: Scheme = self.scheme.parse()?;
         let inclination = inclination(&self.rail_inclination)?;
+        if self.contact.rail.is_none() && self.contact.rail_profile_cant.is_some() {
+            anyhow::bail!(
+                "--rail-profile-cant declares the cant of the --rail profile: give --rail too (nothing to declare it of)"
+            );
+        }
         let config = BuildConfig {
             scheme,
             step_m: self.step,

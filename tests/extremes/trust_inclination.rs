@@ -189,6 +189,17 @@ fn a_declared_cant_adds_the_inclination_on_purpose() {
         "{}",
         stdout(&o)
     );
+    // A declaration without a rail profile is refused, not dropped.
+    let o = run(track_preproc()
+        .args(["build", "--centerline"])
+        .arg(shipped("tracks/straight_300m/centerline.csv"))
+        .args(["--rail-profile-cant", "1:40", "-o"])
+        .arg(dir.join("t.h5")));
+    assert!(
+        !o.status.success() && stderr(&o).contains("give --rail too"),
+        "{}",
+        stderr(&o)
+    );
     // A declaration the head contradicts is a warning, not silence.
     let o = run(track_preproc()
         .args(["contact-table", "--wheel"])

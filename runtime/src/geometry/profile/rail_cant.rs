@@ -95,7 +95,8 @@ fn midline(points: &[(f64, f64)], beta_rad: f64) -> Result<(f64, f64), CantDetec
         [p[..=top].iter().rev().copied().collect(), p[top..].to_vec()];
     let depth = |side: &[(f64, f64)]| side.iter().map(|q| z_top - q.1).fold(0.0_f64, f64::max);
     let reach = depth(&sides[0]).min(depth(&sides[1]));
-    if !(reach >= MIN_SIDE_DEPTH_M) {
+    // NaN-safe: a NaN reach is too shallow too.
+    if reach.is_nan() || reach < MIN_SIDE_DEPTH_M {
         return Err(CantDetectionError::TooShallow {
             depth_mm: reach * 1e3,
             min_mm: MIN_SIDE_DEPTH_M * 1e3,
