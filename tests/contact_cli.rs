@@ -177,6 +177,8 @@ fn build_with_profiles_writes_track_and_contact_table() {
         shipped("profiles/MBench_UIC60_v3.prr").to_str().unwrap(),
         "--rail-inclination",
         "1:40",
+        "--rail-profile-cant",
+        "1:40",
         "--wheel-radius",
         "0.43",
         "--y-step-mm",

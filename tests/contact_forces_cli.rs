@@ -13,6 +13,8 @@ fn contact_args(y_mm: &str, yaw_mrad: &str, creep: &str) -> Vec<String> {
         shipped("profiles/MBench_S1002_v3.prw").to_str().unwrap(),
         "--rail",
         shipped("profiles/MBench_UIC60_v3.prr").to_str().unwrap(),
+        "--rail-inclination",
+        "0",
         "--y-mm",
         y_mm,
         "--yaw-mrad",

@@ -25,6 +25,7 @@ fn bogie_scene(dir: &Path, name: &str, track: &str, extra: &str) -> std::path::P
 [track]
 {track}
 rail_profile = "{scenes}/../profiles/MBench_UIC60_v3.prr"
+rail_profile_cant = "1:40"
 [vehicle]
 file = "{scenes}/../vehicles/ml95_like_bogie.toml"
 [initial]
@@ -442,6 +443,7 @@ fn a_tripped_flange_guard_repeats_the_run_with_the_flange_searched() {
         r#"[track]
 straight_m = 60.0
 rail_profile = "{s}/../profiles/MBench_UIC60_v3.prr"
+rail_profile_cant = "1:40"
 [vehicle]
 file = "{s}/../vehicles/ml95_like_bogie.toml"
 [initial]

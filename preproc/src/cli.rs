@@ -59,9 +59,16 @@ pub struct ContactArgs {
     /// Wheel profile (SIMPACK .prw, two columns y z (mm), or CSV y_mm,z_mm).
     #[arg(long, value_name = "FILE")]
     pub wheel: Option<PathBuf>,
-    /// Rail profile (SIMPACK .prr, two columns, or CSV).
+    /// Rail profile (SIMPACK .prr, two columns, or CSV). A file already
+    /// canted (detected from its head's symmetry) is refused with a non-zero
+    /// --rail-inclination: double canting.
     #[arg(long, value_name = "FILE")]
     pub rail: Option<PathBuf>,
+    /// The cant the rail profile file already carries as drawn: 1:40, 0, …
+    /// (overrides its detection; declared, the rail inclination is added
+    /// to it on purpose).
+    #[arg(long, value_name = "R")]
+    pub rail_profile_cant: Option<String>,
     /// Distance between the flange backs (m).
     #[arg(long, default_value_t = 1.360, value_name = "M")]
     pub back_to_back: f64,
@@ -107,6 +114,30 @@ pub struct ContactArgs {
     pub keep_longest_stretch: bool,
 }
 
+/// The declared cant of `--rail-profile-cant`, parsed.
+fn declared_cant(text: Option<&str>) -> Result<Option<Inclination>> {
+    text.map(|t| {
+        t.parse::<Inclination>()
+            .map_err(anyhow::Error::msg)
+            .context("--rail-profile-cant")
+    })
+    .transpose()
+}
+
+/// `--rail-inclination`, parsed.
+fn inclination(text: &str) -> Result<Inclination> {
+    text.parse()
+        .map_err(anyhow::Error::msg)
+        .context("--rail-inclination")
+}
+
+/// Prints the warnings of a rail profile check on standard error.
+fn print_warnings(warnings: &[String]) {
+    for w in warnings {
+        eprintln!("{w}");
+    }
+}
+
 impl ContactArgs {
     /// The contact-table settings, when both profiles are given.
     pub fn to_config(&self) -> Result<Option<ContactTableConfig>> {
@@ -130,6 +161,8 @@ impl ContactArgs {
             y_max_m: self.y_range_mm * 1e-3,
             y_step_m: self.y_step_mm * 1e-3,
             yaw_rad: yaw,
+            rail_profile_cant_rad: declared_cant(self.rail_profile_cant.as_deref())?
+                .map(|c| c.angle_rad),
             support: if self.rigid {
                 TableSupport::Rigid
             } else {
@@ -163,9 +196,10 @@ pub struct ContactTableArgs {
     /// Lateral offset of the gauge face from the rail profile origin (m).
     #[arg(long, default_value_t = crate::config::DEFAULT_GAUGE_FACE_OFFSET_M, value_name = "M")]
     pub gauge_face_offset: f64,
-    /// Rail inclination towards the track centre: 1:40, 1:20, 0, … (0 for
-    /// profiles that already carry it, like MBench_UIC60_v3.prr).
-    #[arg(long, default_value = "1:40", value_name = "R")]
+    /// Rail inclination towards the track centre, turning the rail profile
+    /// as drawn: 1:40, 1:20, 0, … (0 for profiles that already carry it,
+    /// like MBench_UIC60_v3.prr).
+    #[arg(long, default_value = crate::config::DEFAULT_RAIL_INCLINATION, value_name = "R")]
     pub rail_inclination: String,
     /// Output file (.h5), written atomically.
     #[arg(short, long, value_name = "OUT.h5")]
@@ -203,8 +237,10 @@ pub struct BuildArgs {
     /// Lateral offset of the gauge face from the rail profile origin (m) (UIC60: 0.036).
     #[arg(long, default_value_t = crate::config::DEFAULT_GAUGE_FACE_OFFSET_M, value_name = "M")]
     pub gauge_face_offset: f64,
-    /// Rail inclination towards the track centre: 1:40, 1:20, 0, …
-    #[arg(long, default_value = "1:40", value_name = "R")]
+    /// Rail inclination towards the track centre, turning the rail profile
+    /// as drawn: 1:40, 1:20, 0, … (0 for profiles that already carry it,
+    /// like MBench_UIC60_v3.prr).
+    #[arg(long, default_value = crate::config::DEFAULT_RAIL_INCLINATION, value_name = "R")]
     pub rail_inclination: String,
     /// Cant base e0 for cant heights, φ = asin(h/e0) (m) (default: gauge + 0.065).
     #[arg(long, value_name = "M")]
@@ -223,11 +259,12 @@ impl BuildArgs {
     /// Second stage: parsed arguments → checked build request.
     pub fn to_request(&self, command_line: String) -> Result<BuildRequest> {
         let scheme: Scheme = self.scheme.parse()?;
-        let inclination: Inclination = self
-            .rail_inclination
-            .parse()
-            .map_err(anyhow::Error::msg)
-            .context("--rail-inclination")?;
+        let inclination = inclination(&self.rail_inclination)?;
+        if self.contact.rail.is_none() && self.contact.rail_profile_cant.is_some() {
+            anyhow::bail!(
+                "--rail-profile-cant declares the cant of the --rail profile: give --rail too (nothing to declare it of)"
+            );
+        }
         let config = BuildConfig {
             scheme,
             step_m: self.step,
@@ -240,10 +277,18 @@ impl BuildArgs {
             },
             inclination,
             cant_base_m: self.cant_base,
+            // The rail alone (no wheel) is checked and recorded, without a
+            // contact table.
+            rail_profile: self.contact.rail.clone(),
+            rail_profile_cant: declared_cant(self.contact.rail_profile_cant.as_deref())?,
         };
         config.validate()?;
+        let contact = match (&self.contact.wheel, &self.contact.rail) {
+            (None, Some(_)) => None,
+            _ => self.contact.to_config()?,
+        };
         Ok(BuildRequest {
-            contact: self.contact.to_config()?,
+            contact,
             centerline: self.centerline.clone(),
             cant: self.cant.clone(),
             irregularities: self.irregularities.clone(),
@@ -337,6 +382,11 @@ pub fn run(cli: Cli) -> Result<()> {
                 &inputs,
                 &outputs(&req.output, args.contact.plots.as_deref()),
             )?;
+            print_warnings(
+                &crate::pipeline::check_build_rail(&req.config)?
+                    .map(|c| c.warnings)
+                    .unwrap_or_default(),
+            );
             let sink = BarSink::new();
             let mut summary = run_build(&req, &sink)
                 .with_context(|| format!("building {} failed", req.output.display()))?;
@@ -357,11 +407,7 @@ pub fn run(cli: Cli) -> Result<()> {
         }
         Command::ImportContactTable(args) => import_contact_table(&args),
         Command::ContactTable(args) => {
-            let inclination: Inclination = args
-                .rail_inclination
-                .parse()
-                .map_err(anyhow::Error::msg)
-                .context("--rail-inclination")?;
+            let inclination = inclination(&args.rail_inclination)?;
             let spacing = args
                 .rail_spacing
                 .unwrap_or(args.gauge + 2.0 * args.gauge_face_offset);
@@ -383,6 +429,11 @@ pub fn run(cli: Cli) -> Result<()> {
                 &inputs,
                 &outputs(&args.output, args.contact.plots.as_deref()),
             )?;
+            // Warnings of the rail profile now; a refusal comes from the
+            // build, after the wheel profile is read (its errors first).
+            if let Ok(check) = config.check_rail() {
+                print_warnings(&check.warnings);
+            }
             let req = ContactTableRequest {
                 config,
                 output: args.output.clone(),

@@ -26,6 +26,14 @@ pub const DEFAULT_GAUGE_FACE_OFFSET_M: f64 = 0.036;
 /// docs/reference/01-units-frames.md §1).
 pub const CANT_BASE_OVER_GAUGE_M: f64 = 0.065;
 
+/// The rail inclination of every command and scene when none is given:
+/// 1:40, the most common inclination of European main lines (1:20 is the
+/// other in use, on older and Iberian track), applied to the rail profile
+/// as drawn in its file, i.e. meant for upright profiles. A file already canted (the shipped
+/// `MBench_UIC60_v3.prr`) is detected and refused with it
+/// (`runtime::geometry::profile::rail_cant`; docs/reference/05-surfaces.md §5.7).
+pub const DEFAULT_RAIL_INCLINATION: &str = "1:40";
+
 /// How far apart the two rail space curves (the rails' profile origins) are.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum RailSpacing {
@@ -55,7 +63,7 @@ pub struct Inclination {
 
 impl Default for Inclination {
     fn default() -> Self {
-        "1:40".parse().expect("valid default")
+        DEFAULT_RAIL_INCLINATION.parse().expect("valid default")
     }
 }
 
@@ -115,6 +123,13 @@ pub struct BuildConfig {
     pub inclination: Inclination,
     /// Cant base e0 for cant heights (m); `None` = gauge + 0.065 m.
     pub cant_base_m: Option<f64>,
+    /// The rail profile the track is built for, when known: checked against
+    /// the inclination (double canting) and recorded in the table file
+    /// with its SHA-256 and carried cant (docs/reference/04-table-files.md §4.1).
+    pub rail_profile: Option<std::path::PathBuf>,
+    /// The cant that profile carries as drawn, declared by the user
+    /// (overrides detection; `--rail-profile-cant`).
+    pub rail_profile_cant: Option<Inclination>,
 }
 
 impl Default for BuildConfig {
@@ -126,6 +141,8 @@ impl Default for BuildConfig {
             rail_spacing: RailSpacing::default(),
             inclination: Inclination::default(),
             cant_base_m: None,
+            rail_profile: None,
+            rail_profile_cant: None,
         }
     }
 }

@@ -15,6 +15,9 @@ use runtime::contact::{
     Candidate, ContactError, ContactOptions, ContactSolver, FlangeSearch, WheelsetContactModel,
 };
 use runtime::forces::hertz::Material;
+use runtime::geometry::profile::rail_cant::{
+    RailCantCheck, RailCantError, Spelling, check_rail_file,
+};
 use runtime::geometry::profile::{
     ProfileWarning, RailPlacement, RailProfileOptions, WheelProfileOptions, Zone,
 };
@@ -60,6 +63,10 @@ pub struct ContactTableConfig {
     pub gauge_m: f64,
     pub rail_spacing_m: f64,
     pub rail_inclination_rad: f64,
+    /// The cant the rail profile file carries as drawn, declared by the
+    /// user (rad; `--rail-profile-cant`); `None`: detected from the file
+    /// (`runtime::geometry::profile::rail_cant`).
+    pub rail_profile_cant_rad: Option<f64>,
     /// Lateral shifts: from `y_min_m` to `y_max_m` every `y_step_m` (m).
     pub y_min_m: f64,
     pub y_max_m: f64,
@@ -87,6 +94,7 @@ impl Default for ContactTableConfig {
             gauge_m: 1.435,
             rail_spacing_m: 1.507,
             rail_inclination_rad: 0.0,
+            rail_profile_cant_rad: None,
             y_min_m: -0.015,
             y_max_m: 0.015,
             y_step_m: 1e-4,
@@ -107,6 +115,8 @@ pub enum ContactTableBuildError {
     Config(String),
     #[error(transparent)]
     Profile(#[from] ProfileLoadError),
+    #[error(transparent)]
+    RailCant(#[from] RailCantError),
     #[error("{0}")]
     Model(String),
     #[error(
@@ -178,9 +188,22 @@ impl ContactTableConfig {
         (lo..=hi).map(|k| k as f64 * self.y_step_m).collect()
     }
 
-    /// Load the profiles and assemble the wheelset's contact model; with it
-    /// the warnings of the profiles (one per profile cut to its longest
-    /// usable stretch), which the caller must show.
+    /// The rail profile checked against the rail inclination (double
+    /// canting refused, `runtime::geometry::profile::rail_cant::check_rail_cant`),
+    /// with its record and warnings; messages name the command-line options.
+    pub fn check_rail(&self) -> Result<RailCantCheck, ContactTableBuildError> {
+        Ok(check_rail_file(
+            &self.rail_profile,
+            self.rail_profile_cant_rad,
+            self.rail_inclination_rad,
+            Spelling::CommandLine,
+        )?)
+    }
+
+    /// Load the profiles and assemble the wheelset's contact model (a rail
+    /// profile canted twice is refused, [`Self::check_rail`]); with it the
+    /// warnings of the profiles (one per profile cut to its longest usable
+    /// stretch), which the caller must show.
     pub fn model(
         &self,
     ) -> Result<(WheelsetContactModel, Vec<ProfileWarning>), ContactTableBuildError> {
@@ -211,6 +234,7 @@ impl ContactTableConfig {
                 ..Default::default()
             },
         )?;
+        self.check_rail()?;
         // The same wheel file twice warns once.
         let mut warnings = left.warnings;
         if right_path.is_some_and(|p| p != self.wheel_profile) {
@@ -290,6 +314,7 @@ pub fn build_contact_table(
     progress: &dyn ProgressSink,
 ) -> Result<ContactTable, ContactTableBuildError> {
     config.validate()?;
+    let rail = config.check_rail()?;
     let y = config.y_grid();
     let zero = y
         .iter()
@@ -370,6 +395,7 @@ pub fn build_contact_table(
             gauge_m: config.gauge_m,
             rail_spacing_m: config.rail_spacing_m,
             rail_inclination_rad: config.rail_inclination_rad,
+            rail_record: Some(rail.record),
             support: match config.support {
                 TableSupport::Rigid => "rigid".into(),
                 TableSupport::Elastic { .. } => "elastic".into(),

@@ -151,4 +151,6 @@ pub enum BuildError {
     Write(#[from] runtime::io::schema::SchemaError),
     #[error(transparent)]
     ContactTable(#[from] crate::contact_table::ContactTableBuildError),
+    #[error(transparent)]
+    RailCant(#[from] runtime::geometry::profile::rail_cant::RailCantError),
 }

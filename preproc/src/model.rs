@@ -310,6 +310,7 @@ impl TrackModel {
             cant_base_m: c.cant_base_m(),
             rail_inclination: c.inclination.text.clone(),
             rail_inclination_rad: c.inclination.angle_rad,
+            rail_profile: None,
             tool: "track-preproc".into(),
             tool_version: env!("CARGO_PKG_VERSION").into(),
         }

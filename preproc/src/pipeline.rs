@@ -5,6 +5,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use runtime::geometry::profile::rail_cant::{RailCantCheck, Spelling, check_rail_file};
 use runtime::geometry::track::{InputFile, Provenance, TrackTables};
 use runtime::io::schema;
 
@@ -82,15 +83,42 @@ pub fn read_inputs(req: &BuildRequest) -> Result<(TrackInputs, Vec<InputFile>), 
     ))
 }
 
-/// Build the tables of a request in memory (no file written).
+/// The rail profile of a build checked against its inclination (double
+/// canting refused; messages name the command-line options), when the
+/// build names one.
+pub fn check_build_rail(config: &BuildConfig) -> Result<Option<RailCantCheck>, BuildError> {
+    Ok(match &config.rail_profile {
+        Some(path) => Some(check_rail_file(
+            path,
+            config.rail_profile_cant.as_ref().map(|c| c.angle_rad),
+            config.inclination.angle_rad,
+            Spelling::CommandLine,
+        )?),
+        None => None,
+    })
+}
+
+/// Build the tables of a request in memory (no file written); the rail
+/// profile, when the request names one, is checked before the work
+/// ([`check_build_rail`]) and recorded in the tables' metadata.
 pub fn build_tables(
     req: &BuildRequest,
     progress: &dyn ProgressSink,
 ) -> Result<(TrackTables, Provenance), BuildError> {
     req.config.validate()?;
+    let rail = check_build_rail(&req.config)?;
     let (inputs, files) = read_inputs(req)?;
     let model = TrackModel::build(&inputs, &req.config)?;
-    let tables = model.tabulate(progress)?;
+    let mut tables = model.tabulate(progress)?;
+    let mut files = files;
+    if let (Some(r), Some(path)) = (rail, &req.config.rail_profile) {
+        files.push(InputFile {
+            role: "rail_profile".into(),
+            path: path.display().to_string(),
+            text: read(path)?,
+        });
+        tables.meta.rail_profile = Some(r.record);
+    }
     Ok((
         tables,
         Provenance {
@@ -120,6 +148,12 @@ pub fn run_build(
     progress: &dyn ProgressSink,
 ) -> Result<BuildSummary, BuildError> {
     let start = Instant::now();
+    // The contact table's rail is the track's: recorded with it.
+    let mut req = req.clone();
+    if let (None, Some(c)) = (&req.config.rail_profile, &req.contact) {
+        req.config.rail_profile = Some(c.rail_profile.clone());
+    }
+    let req = &req;
     let (tables, mut provenance) = build_tables(req, progress)?;
     let contact = match &req.contact {
         Some(c) => {
@@ -127,9 +161,14 @@ pub fn run_build(
                 gauge_m: req.config.gauge_m,
                 rail_spacing_m: req.config.rail_spacing_m(),
                 rail_inclination_rad: req.config.inclination.angle_rad,
+                rail_profile_cant_rad: req.config.rail_profile_cant.as_ref().map(|i| i.angle_rad),
                 ..c.clone()
             };
-            provenance.inputs.extend(profile_inputs(&c)?);
+            for input in profile_inputs(&c)? {
+                if !provenance.inputs.iter().any(|i| i.role == input.role) {
+                    provenance.inputs.push(input);
+                }
+            }
             let (model, warnings) = c.model()?;
             Some((build_contact_table(&model, &c, progress)?, warnings))
         }

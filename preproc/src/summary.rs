@@ -89,6 +89,13 @@ pub struct ContactTableSummary {
     /// Warnings of the profiles: what was dropped from a profile cut to its
     /// longest usable stretch (`--keep-longest-stretch`).
     pub warnings: Vec<String>,
+    /// The rail inclination applied to the rail profile as drawn (rad),
+    /// the cant the profile carries (rad) and how that is known
+    /// (`detected`, `declared`, `unknown`; absent for tables that do not
+    /// record it): the rail stands at their sum in the track.
+    pub rail_inclination_rad: f64,
+    pub rail_profile_cant_rad: Option<f64>,
+    pub rail_profile_cant_source: Option<String>,
 }
 
 impl ContactTableSummary {
@@ -119,6 +126,13 @@ impl ContactTableSummary {
             flange_contact_right_mm: flange_at(1, -1.0),
             conicity,
             warnings: Vec::new(),
+            rail_inclination_rad: table.meta.rail_inclination_rad,
+            rail_profile_cant_rad: table.meta.rail_record.as_ref().map(|r| r.carried_cant_rad),
+            rail_profile_cant_source: table
+                .meta
+                .rail_record
+                .as_ref()
+                .map(|r| r.carried_cant_source.name().to_string()),
         }
     }
 
@@ -135,9 +149,22 @@ impl ContactTableSummary {
                 None => format!("{a:.0} mm: –"),
             })
             .collect();
+        use runtime::geometry::profile::rail_cant::slope_text;
         let warnings: String = self.warnings.iter().map(|w| format!("  {w}\n")).collect();
+        let cant = match (self.rail_profile_cant_rad, &self.rail_profile_cant_source) {
+            (Some(c), Some(source)) => format!(
+                "{} in the file ({source}) + inclination {} = {} in the track",
+                slope_text(c),
+                slope_text(self.rail_inclination_rad),
+                slope_text(c + self.rail_inclination_rad)
+            ),
+            _ => format!(
+                "inclination {} (the file's own cant not recorded)",
+                slope_text(self.rail_inclination_rad)
+            ),
+        };
         format!(
-            "  contact table     {} rows ({} yaw), y {:+.1} … {:+.1} mm, {}{}\n  profiles          {} on {}\n{warnings}  flange contact    left at {}, right at {}\n  conicity tanγe    {}\n",
+            "  contact table     {} rows ({} yaw), y {:+.1} … {:+.1} mm, {}{}\n  profiles          {} on {}\n{warnings}  rail cant         {cant}\n  flange contact    left at {}, right at {}\n  conicity tanγe    {}\n",
             self.rows,
             self.yaw_count,
             self.y_min_mm,

@@ -42,6 +42,8 @@ fn ml95_config(track: &TrackTables) -> ContactTableConfig {
         gauge_m: track.meta.gauge_m,
         rail_spacing_m: track.meta.rail_spacing_m,
         rail_inclination_rad: track.meta.rail_inclination_rad,
+        // The file is drawn canted 1:40: with the track's 1:40, 1:20 on purpose.
+        rail_profile_cant_rad: Some((1.0_f64 / 40.0).atan()),
         ..Default::default()
     }
 }

@@ -107,9 +107,16 @@ pub struct ContactArgs {
     /// Wheel profile (SIMPACK .prw, two columns y z (mm), or CSV y_mm,z_mm).
     #[arg(long, value_name = "FILE")]
     pub wheel: PathBuf,
-    /// Rail profile (SIMPACK .prr, two columns, or CSV).
+    /// Rail profile (SIMPACK .prr, two columns, or CSV). A file already
+    /// canted (detected from its head's symmetry) is refused with a non-zero
+    /// --rail-inclination: double canting.
     #[arg(long, value_name = "FILE")]
     pub rail: PathBuf,
+    /// The cant the rail profile file already carries as drawn: 1:40, 0, …
+    /// (overrides its detection; declared, the rail inclination is added
+    /// to it on purpose).
+    #[arg(long, value_name = "R")]
+    pub rail_profile_cant: Option<String>,
     /// Track gauge (m) (between the gauge points, 14 mm below the top).
     #[arg(long, default_value_t = 1.435, value_name = "M")]
     pub gauge: f64,
@@ -119,8 +126,10 @@ pub struct ContactArgs {
     /// Nominal rolling radius at the taping line (m).
     #[arg(long, default_value_t = 0.46, value_name = "M")]
     pub wheel_radius: f64,
-    /// Rail inclination towards the track centre: 1:40, 1:20, 0, …
-    #[arg(long, default_value = "0", value_name = "R")]
+    /// Rail inclination towards the track centre, turning the rail profile
+    /// as drawn: 1:40, 1:20, 0, … (0 for profiles that already carry it,
+    /// like MBench_UIC60_v3.prr).
+    #[arg(long, default_value = preproc::config::DEFAULT_RAIL_INCLINATION, value_name = "R")]
     pub rail_inclination: String,
     /// Lateral shift of the wheelset, positive to the left (mm).
     #[arg(
@@ -439,6 +448,16 @@ impl ContactArgs {
             gauge_m: self.gauge,
             rail_spacing_m: self.gauge + 2.0 * preproc::config::DEFAULT_GAUGE_FACE_OFFSET_M,
             rail_inclination_rad: inclination.angle_rad,
+            rail_profile_cant_rad: self
+                .rail_profile_cant
+                .as_deref()
+                .map(|t| {
+                    t.parse::<preproc::Inclination>()
+                        .map_err(anyhow::Error::msg)
+                        .context("--rail-profile-cant")
+                })
+                .transpose()?
+                .map(|c| c.angle_rad),
             support: if self.rigid {
                 TableSupport::Rigid
             } else {

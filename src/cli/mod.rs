@@ -27,12 +27,34 @@ pub const INTERRUPTED_EXIT_CODE: u8 = 130;
 
 pub use args::{Cli, Command, ContactArgs, CreepCurveArgs, CriticalSpeedArgs, RunArgs};
 
+/// Warnings on standard error, one a line.
+fn print_warnings(warnings: &[String]) {
+    for w in warnings {
+        eprintln!("{w}");
+    }
+}
+
+/// The scene's rail profile checked before any work
+/// ([`crate::session::track::check_rail`]): a refusal (double canting, a
+/// rail inclination or profile other than the table file's) ends the
+/// command; warnings go to standard error.
+pub(crate) fn check_scene_rail(scene: &crate::config::scene::LoadedScene) -> Result<()> {
+    let check = crate::session::track::check_rail(scene).context("[track] rail profile")?;
+    print_warnings(&check.warnings);
+    Ok(())
+}
+
 /// Run the CLI.
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Contact(args) => {
             let config = args.to_config()?;
             let rolling = args.to_rolling()?;
+            // Warnings of the rail profile now; a refusal comes from the
+            // model, after the wheel profile is read (its errors first).
+            if let Ok(check) = config.check_rail() {
+                print_warnings(&check.warnings);
+            }
             let (case, _) = crate::studies::contact::contact_case(
                 &config,
                 args.y_mm * 1e-3,
@@ -69,6 +91,7 @@ pub fn run(cli: Cli) -> Result<()> {
             json,
         } => {
             let scene = crate::config::scene::LoadedScene::load(&scene, &set)?;
+            check_scene_rail(&scene)?;
             let settings = crate::studies::bifurcation::BifurcationSettings {
                 min_m_s: min,
                 max_m_s: max,
@@ -159,6 +182,7 @@ pub fn run(cli: Cli) -> Result<()> {
 
 fn run_command(args: &RunArgs) -> Result<()> {
     let req = args.to_request()?;
+    check_scene_rail(&req.scene)?;
     let plan = crate::session::plan::plan(&req.scene).context("planning the run")?;
     if args.plan_only {
         if args.json {
@@ -215,6 +239,7 @@ fn critical_speed_command(args: &CriticalSpeedArgs) -> Result<()> {
     use crate::studies::critical_speed::{CriticalSpeedSettings, study};
 
     let scene = crate::config::scene::LoadedScene::load(&args.scene, &args.set)?;
+    check_scene_rail(&scene)?;
     let laws = if args.creep.is_empty() {
         vec![scene.scene.contact.creep_law]
     } else {

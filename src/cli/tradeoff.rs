@@ -45,6 +45,7 @@ pub struct TradeoffArgs {
 /// `sim tradeoff`.
 pub fn command(args: &TradeoffArgs) -> Result<()> {
     let mut scene = LoadedScene::load(&args.scene, &args.set)?;
+    super::check_scene_rail(&scene)?;
     if args.quick {
         let keep = args.set.iter().any(|s| {
             s.trim_start().starts_with("run.distance_m")

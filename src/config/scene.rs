@@ -15,8 +15,10 @@
 //! step_m = 0.1
 //! scheme = "cubic"
 //! gauge_m = 1.435
-//! rail_inclination = "1:40"
+//! rail_inclination = "1:40"    # turns the profile as drawn; default 1:40
 //! rail_profile = "../profiles/MBench_UIC60_v3.prr"
+//! rail_profile_cant = "1:40"   # the file is drawn canted 1:40 (declared:
+//! #                            # the inclination is added on purpose, 1:20 in all)
 //!
 //! (vehicle)
 //! file = "../vehicles/ml95_like_wheelset.toml"
@@ -99,17 +101,25 @@ pub struct TrackSection {
     pub cant: Option<PathBuf>,
     #[serde(default)]
     pub irregularities: Option<PathBuf>,
-    /// Table step (m), spline scheme, gauge (m), rail inclination ("1:40",
-    /// "0", …) of the build; ignored with `tables`.
+    /// Table step (m), spline scheme, gauge (m) of the build; ignored with
+    /// `tables`.
     #[serde(default = "default_step")]
     pub step_m: f64,
     #[serde(default = "default_scheme")]
     pub scheme: String,
     #[serde(default = "default_gauge")]
     pub gauge_m: f64,
-    #[serde(default = "default_inclination")]
-    pub rail_inclination: String,
-    /// Rail profile (both rails; SIMPACK .prr, two columns or CSV).
+    /// Rail inclination towards the track centre, turning the rail profile
+    /// as drawn ("1:40", "1:20", "0", …). Absent: 1:40
+    /// (`preproc::config::DEFAULT_RAIL_INCLINATION`), or with `tables` the
+    /// table file's; stated with `tables`, it must be the table file's.
+    #[serde(default)]
+    pub rail_inclination: Option<String>,
+    /// Rail profile (both rails; SIMPACK .prr, two columns or CSV). A file
+    /// already canted (detected from its head's symmetry, like the shipped
+    /// `MBench_UIC60_v3.prr`) is refused with a non-zero inclination —
+    /// double canting — unless its cant is declared (`rail_profile_cant`);
+    /// with `tables`, it must be the profile the table file records.
     pub rail_profile: PathBuf,
     /// Keep the longest usable stretch of a profile (this rail profile and
     /// the vehicle's wheel profiles) that folds back, repeats its lateral
@@ -118,6 +128,11 @@ pub struct TrackSection {
     /// (docs/reference/05-surfaces.md §5.3).
     #[serde(default)]
     pub keep_longest_stretch: bool,
+    /// The cant the rail profile file carries as drawn ("1:40", "0", …),
+    /// declared: overrides its detection, and the rail inclination is then
+    /// added to it on purpose (docs/reference/05-surfaces.md §5.7).
+    #[serde(default)]
+    pub rail_profile_cant: Option<String>,
     /// Tabulate only this stretch `[from, to]` of the centreline (track
     /// distance, m), built in memory; CSV inputs only. Set by the planner
     /// (the planner) or by hand; absent: the whole track.
@@ -134,8 +149,37 @@ fn default_scheme() -> String {
 fn default_gauge() -> f64 {
     1.435
 }
-fn default_inclination() -> String {
-    "1:40".into()
+
+impl TrackSection {
+    /// The rail inclination the scene states, parsed (`None`: not stated).
+    pub fn stated_inclination(&self) -> Result<Option<preproc::Inclination>> {
+        self.rail_inclination
+            .as_deref()
+            .map(|t| {
+                t.parse::<preproc::Inclination>()
+                    .map_err(anyhow::Error::msg)
+                    .context("[track] rail_inclination")
+            })
+            .transpose()
+    }
+
+    /// The rail inclination of a track the scene builds: the stated one,
+    /// else the default 1:40.
+    pub fn inclination(&self) -> Result<preproc::Inclination> {
+        Ok(self.stated_inclination()?.unwrap_or_default())
+    }
+
+    /// The cant the rail profile carries, when the scene declares it.
+    pub fn declared_rail_cant(&self) -> Result<Option<preproc::Inclination>> {
+        self.rail_profile_cant
+            .as_deref()
+            .map(|t| {
+                t.parse::<preproc::Inclination>()
+                    .map_err(anyhow::Error::msg)
+                    .context("[track] rail_profile_cant")
+            })
+            .transpose()
+    }
 }
 
 /// The vehicle file.
@@ -702,6 +746,8 @@ impl Scene {
                 "[track] range_m needs centerline inputs (a table file is used as it is; an ideal straight is shortened with straight_m)"
             );
         }
+        t.stated_inclination()?;
+        t.declared_rail_cant()?;
         ensure!(
             t.gauge_m > 0.5 && t.gauge_m < 2.5,
             "[track] gauge_m = {} must lie in 0.5 … 2.5 m",

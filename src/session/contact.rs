@@ -34,11 +34,15 @@ pub fn imported_table(path: &Path) -> Result<ImportedContactTable> {
 
 /// Contact lookup tables of every wheelset (built on demand for the
 /// wheel/rail pair, the track's rail placement and the wheelset's static
-/// load, and cached): lateral shifts ±15 mm every 0.1 mm, zero yaw.
+/// load, and cached): lateral shifts ±15 mm every 0.1 mm, zero yaw. The
+/// rail profile's carried cant is `declared_cant_rad` (the scene's
+/// `rail_profile_cant`), else detected; each table records it with the
+/// profile's SHA-256.
 pub fn contact_tables(
     v: &VehicleFile,
     track: &TrackTables,
     rail: &Path,
+    declared_cant_rad: Option<f64>,
     material: Material,
     keep_longest_stretch: bool,
 ) -> Result<Vec<Arc<ContactTable>>> {
@@ -53,6 +57,7 @@ pub fn contact_tables(
             gauge_m: track.meta.gauge_m,
             rail_spacing_m: track.meta.rail_spacing_m,
             rail_inclination_rad: track.meta.rail_inclination_rad,
+            rail_profile_cant_rad: declared_cant_rad,
             y_min_m: -0.015,
             y_max_m: 0.015,
             y_step_m: 1e-4,

@@ -34,13 +34,17 @@ pub fn system_settings(
     };
     let creep_law = scene.creep_law()?;
     let method = match scene.contact.method {
-        ContactMethodKind::Table => ContactMethod::Table(contact_tables(
-            vfile,
-            track,
-            &rail_path,
-            material,
-            scene.track.keep_longest_stretch,
-        )?),
+        ContactMethodKind::Table => {
+            let declared = scene.track.declared_rail_cant()?.map(|c| c.angle_rad);
+            ContactMethod::Table(contact_tables(
+                vfile,
+                track,
+                &rail_path,
+                declared,
+                material,
+                scene.track.keep_longest_stretch,
+            )?)
+        }
         ContactMethodKind::Imported => {
             let path = ls.path(
                 scene

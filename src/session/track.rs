@@ -1,11 +1,13 @@
 //! The scene's track tables: an ideal straight in memory, a table file,
 //! a range built in memory, or the whole track built from its CSV inputs
-//! into the cache ([`crate::session::cache`]).
+//! into the cache ([`crate::session::cache`]) — and the scene's rail
+//! profile checked against them ([`check_rail`]).
 
 use std::time::Instant;
 
-use anyhow::{Context, Result};
-use preproc::{BuildConfig, BuildRequest, Inclination, NoProgress, build_tables};
+use anyhow::{Context, Result, bail};
+use preproc::{BuildConfig, BuildRequest, NoProgress, build_tables};
+use runtime::geometry::profile::rail_cant::{RailCantCheck, Spelling, check_rail_file, slope_text};
 use runtime::geometry::track::TrackTables;
 use serde::Serialize;
 
@@ -21,16 +23,90 @@ pub struct TrackSource {
     pub build_time_s: f64,
 }
 
+/// Two rail inclinations (rad) this close are the same (round-off of the
+/// angle through its text and back).
+const SAME_INCLINATION_RAD: f64 = 1e-12;
+
+/// The scene's rail profile checked against the rail inclination its track
+/// gives it (docs/reference/10-scene-files.md, `[track]`):
+///
+/// - with `tables`, a stated `rail_inclination` other than the table
+///   file's, or a `rail_profile` other than the one the file records
+///   (compared by SHA-256), is refused naming both; the file's inclination
+///   applies;
+/// - the profile's carried cant (declared by `rail_profile_cant`, else
+///   detected) with a non-zero inclination is refused as double canting
+///   (`runtime::geometry::profile::rail_cant::check_rail_cant`).
+///
+/// Returns the check, whose warnings the caller shows.
+pub fn check_rail(ls: &LoadedScene) -> Result<RailCantCheck> {
+    let t = &ls.scene.track;
+    let rail = ls.path(&t.rail_profile);
+    let declared = t.declared_rail_cant()?.map(|c| c.angle_rad);
+    let Some(tables) = &t.tables else {
+        return Ok(check_rail_file(
+            &rail,
+            declared,
+            t.inclination()?.angle_rad,
+            Spelling::Scene,
+        )?);
+    };
+    let path = ls.path(tables);
+    let meta = runtime::io::schema::read_track_meta(&path)?;
+    if let Some(stated) = t.stated_inclination()?
+        && (stated.angle_rad - meta.rail_inclination_rad).abs() > SAME_INCLINATION_RAD
+    {
+        bail!(
+            "[track] rail_inclination = \"{stated}\" ({:.6} rad), but the table file {} was built with the rail inclination {} ({:.6} rad); remove the key to use the table file's, or rebuild the table file with --rail-inclination {stated}",
+            stated.angle_rad,
+            path.display(),
+            meta.rail_inclination,
+            meta.rail_inclination_rad
+        );
+    }
+    let mut check = check_rail_file(
+        &rail,
+        declared,
+        meta.rail_inclination_rad,
+        Spelling::SceneTables,
+    )
+    .with_context(|| {
+        format!(
+            "the table file {} was built with the rail inclination {}",
+            path.display(),
+            meta.rail_inclination
+        )
+    })?;
+    match &meta.rail_profile {
+        Some(built) if built.sha256 != check.record.sha256 => bail!(
+            "[track] rail_profile = {} (sha256 {}…) is not the rail profile the table file {} was built for: {} (sha256 {}…); give that profile, or rebuild the table file with --rail {}",
+            rail.display(),
+            check.record.short_sha256(),
+            path.display(),
+            built.file,
+            built.short_sha256(),
+            rail.display()
+        ),
+        Some(_) => {}
+        None => check.warnings.push(format!(
+            "warning: the table file {} does not record the rail profile it was built for (built without --rail, or before table files recorded it); the scene's {} is taken to be it, with the file's rail inclination {} ({})",
+            path.display(),
+            rail.display(),
+            meta.rail_inclination,
+            slope_text(meta.rail_inclination_rad)
+        )),
+    }
+    Ok(check)
+}
+
 /// The scene's track tables: its table file, or built from its CSV inputs
-/// into the cache (module docs).
+/// into the cache (module docs). The rail profile is checked first
+/// ([`check_rail`]; its warnings are the caller's to show).
 pub fn load_track(ls: &LoadedScene) -> Result<(TrackTables, TrackSource)> {
     let t = &ls.scene.track;
+    check_rail(ls).context("[track] rail profile")?;
     if let Some(length_m) = t.straight_m {
-        let inclination = t
-            .rail_inclination
-            .parse::<Inclination>()
-            .map_err(anyhow::Error::msg)
-            .context("[track] rail_inclination")?;
+        let inclination = t.inclination()?;
         let spacing = BuildConfig {
             gauge_m: t.gauge_m,
             ..BuildConfig::default()
@@ -89,9 +165,16 @@ pub fn load_track(ls: &LoadedScene) -> Result<(TrackTables, TrackSource)> {
     let mut key = Fnv64::default();
     key.write_str(env!("CARGO_PKG_VERSION"))
         .write_str(&format!("{config:?}"));
-    for p in [Some(&centerline), cant.as_ref(), irregularities.as_ref()]
-        .into_iter()
-        .flatten()
+    // The rail profile is recorded in the tables: its content is part of
+    // the key (`config` holds only its path).
+    for p in [
+        Some(&centerline),
+        cant.as_ref(),
+        irregularities.as_ref(),
+        config.rail_profile.as_ref(),
+    ]
+    .into_iter()
+    .flatten()
     {
         let text =
             std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?;

@@ -33,6 +33,7 @@ scheme = "cubic"
 gauge_m = 1.435
 rail_inclination = "1:40"
 rail_profile = "{rail}"
+rail_profile_cant = "1:40"
 
 [vehicle]
 file = "{vehicle}"
@@ -155,7 +156,7 @@ fn bad_scenes_name_the_file_and_the_key() {
             "toml_syntax",
             |t| t.replace("speed_m_s = 10.0", "speed_m_s = 10.0 m/s"),
             &[],
-            &["scene.toml", "line 20", "not valid TOML"],
+            &["scene.toml", "line 21", "not valid TOML"],
         ),
         (
             "unknown_key",

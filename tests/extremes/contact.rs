@@ -640,7 +640,7 @@ fn vehicle_with_wheel(dir: &Path, name: &str, profile_csv: &str) -> PathBuf {
 }
 
 /// `sim contact --json` of a wheel profile on the scenes' rail (UIC60,
-/// 1:40 in the file + 1:40), R0 0.43 m.
+/// 1:40 in the file, declared, + 1:40), R0 0.43 m.
 fn sim_contact(wheel: &Path, extra: &[&str]) -> std::process::Output {
     run(sim()
         .arg("contact")
@@ -650,6 +650,8 @@ fn sim_contact(wheel: &Path, extra: &[&str]) -> std::process::Output {
         .arg(shipped("profiles/MBench_UIC60_v3.prr"))
         .args([
             "--rail-inclination",
+            "1:40",
+            "--rail-profile-cant",
             "1:40",
             "--wheel-radius",
             "0.43",

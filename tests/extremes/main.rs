@@ -16,5 +16,6 @@ mod motion;
 mod track;
 mod trust;
 mod trust_diagnostics;
+mod trust_inclination;
 mod trust_profiles;
 mod trust_track;

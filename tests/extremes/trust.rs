@@ -48,6 +48,8 @@ fn every_binary_ends_quietly_on_a_closed_pipe() {
         shipped("profiles/MBench_S1002_v3.prw").to_str().unwrap(),
         "--rail",
         shipped("profiles/MBench_UIC60_v3.prr").to_str().unwrap(),
+        "--rail-inclination",
+        "0",
     ]);
     closed_pipe(contact, "sim contact");
     let o = run(&mut build(&straight_centerline(), &dir.join("straight.h5")));

@@ -138,6 +138,9 @@ pub struct ContactTableMeta {
     pub gauge_m: f64,
     pub rail_spacing_m: f64,
     pub rail_inclination_rad: f64,
+    /// The rail profile's digest and carried cant (`None` for tables
+    /// written before they were recorded).
+    pub rail_record: Option<crate::geometry::profile::rail_cant::RailProfileRecord>,
     /// "rigid" or "elastic".
     pub support: String,
     /// Vertical load per wheel for elastic tables (N); 0 for rigid.

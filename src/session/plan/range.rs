@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
-use preproc::{BuildConfig, BuildRequest, Inclination, RailSpacing, TrackModel};
+use preproc::{BuildConfig, BuildRequest, RailSpacing, TrackModel};
 use runtime::geometry::track::TrackTables;
 
 use super::facts::{DYNAMICS_LOOKAHEAD_M, RANGE_MARGIN_M, TrackFacts, travel_m, vehicle_extent_m};
@@ -114,12 +114,10 @@ pub fn build_config(ls: &LoadedScene) -> Result<BuildConfig> {
         step_m: t.step_m,
         gauge_m: t.gauge_m,
         rail_spacing: RailSpacing::default(),
-        inclination: t
-            .rail_inclination
-            .parse::<Inclination>()
-            .map_err(anyhow::Error::msg)
-            .context("[track] rail_inclination")?,
+        inclination: t.inclination()?,
         cant_base_m: None,
+        rail_profile: Some(ls.path(&t.rail_profile)),
+        rail_profile_cant: t.declared_rail_cant()?,
     })
 }
 

@@ -40,6 +40,7 @@
 mod bounds;
 mod curve;
 mod rail;
+pub mod rail_cant;
 mod stretch;
 mod wheel;
 

@@ -98,6 +98,10 @@ pub struct TrackMeta {
     pub rail_inclination: String,
     /// Rail inclination angle towards the track centre (rad).
     pub rail_inclination_rad: f64,
+    /// The rail profile the track was built for, when it was given
+    /// (`track-preproc build --rail`, a scene's tables); `None` for tracks
+    /// built without one and for files written before it was recorded.
+    pub rail_profile: Option<crate::geometry::profile::rail_cant::RailProfileRecord>,
     /// Program and version that wrote the file.
     pub tool: String,
     pub tool_version: String,

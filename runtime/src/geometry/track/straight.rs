@@ -54,6 +54,7 @@ pub fn straight_track(
             cant_base_m: gauge_m + 0.065,
             rail_inclination: format!("{inclination_rad} rad"),
             rail_inclination_rad: inclination_rad,
+            rail_profile: None,
             tool: "runtime::geometry::track::straight_track".into(),
             tool_version: env!("CARGO_PKG_VERSION").into(),
         },

@@ -81,6 +81,9 @@ pub(super) fn write(
     let m = &table.meta;
     attrs::write_str(path, &g, "wheel_profile", &m.wheel_profile)?;
     attrs::write_str(path, &g, "rail_profile", &m.rail_profile)?;
+    if let Some(r) = &m.rail_record {
+        super::track::write_rail_record(path, &g, r)?;
+    }
     attrs::write_f64(path, &g, "wheel_radius_m", m.wheel_radius_m)?;
     attrs::write_f64(path, &g, "back_to_back_m", m.back_to_back_m)?;
     attrs::write_f64(path, &g, "gauge_m", m.gauge_m)?;
@@ -166,6 +169,12 @@ pub(super) fn read(path: &Path, file: &hdf5::File) -> Result<Option<ContactTable
         gauge_m: attrs::read_f64(path, &g, what, "gauge_m")?,
         rail_spacing_m: attrs::read_f64(path, &g, what, "rail_spacing_m")?,
         rail_inclination_rad: attrs::read_f64(path, &g, what, "rail_inclination_rad")?,
+        rail_record: super::track::read_rail_record(
+            path,
+            &g,
+            what,
+            attrs::read_str(path, &g, what, "rail_profile")?,
+        )?,
         support: attrs::read_str(path, &g, what, "support")?,
         wheel_load_n: attrs::read_f64(path, &g, what, "wheel_load_n")?,
         young_pa: attrs::read_f64(path, &g, what, "young_pa")?,

@@ -7,7 +7,9 @@
 //! ```text
 //! /                         attributes: schema_version (u32), tool, tool_version,
 //!                           scheme, step_m, gauge_m, rail_spacing_m, cant_base_m,
-//!                           rail_inclination, rail_inclination_rad, length_m
+//!                           rail_inclination, rail_inclination_rad, length_m;
+//!                           with a rail profile: rail_profile, rail_profile_sha256,
+//!                           rail_profile_cant_rad, rail_profile_cant_source
 //! /centerline/database      N×23 f64, attributes `columns`, `units`
 //! /left_rail/database       M×13 f64 (L x y z tx ty tz nx ny nz bx by bz)
 //! /right_rail/database      K×13 f64
@@ -49,8 +51,8 @@ pub use results_file::{
 };
 pub use results_writer::{RESULTS_CHUNK_SAMPLES, ResultsWriter};
 pub use track::{
-    TableFileWriter, read_contact_table, read_provenance, read_track, write_contact_table_file,
-    write_track_file,
+    TableFileWriter, read_contact_table, read_provenance, read_track, read_track_meta,
+    write_contact_table_file, write_track_file,
 };
 
 use std::path::PathBuf;

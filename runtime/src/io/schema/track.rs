@@ -7,6 +7,7 @@ use hdf5::types::VarLenUnicode;
 use super::columns::{read_table, to_vlu, write_table};
 use super::{SCHEMA_VERSION, SchemaError, attrs, contact_table};
 use crate::contact::table::ContactTable;
+use crate::geometry::profile::rail_cant::{CantSource, RailProfileRecord};
 use crate::geometry::track::{
     CENTERLINE_COLUMNS, CENTERLINE_UNITS, CenterlineRow, CenterlineTable, InputFile, Provenance,
     RAIL_COLUMNS, RAIL_UNITS, RailRow, RailTable, Side, TrackMeta, TrackTables,
@@ -81,6 +82,10 @@ impl TableFileWriter {
         self.attr_f64("cant_base_m", m.cant_base_m)?;
         self.attr_str("rail_inclination", &m.rail_inclination)?;
         self.attr_f64("rail_inclination_rad", m.rail_inclination_rad)?;
+        if let Some(r) = &m.rail_profile {
+            self.attr_str("rail_profile", &r.file)?;
+            write_rail_record(self.atomic.dest_path(), &self.file, r)?;
+        }
         self.attr_f64("length_m", track.centerline.length_m())?;
 
         let path = self.path();
@@ -213,20 +218,90 @@ fn read_attr_str(path: &Path, file: &hdf5::File, name: &str) -> Result<String, S
     attrs::read_str(path, file, "the file", name)
 }
 
+/// Whether `loc` has the attribute `name`.
+pub(super) fn has_attr(loc: &hdf5::Location, name: &str) -> bool {
+    loc.attr_names()
+        .is_ok_and(|names| names.iter().any(|n| n == name))
+}
+
+/// Write the digest and carried cant of a rail profile record (the file's
+/// name is written by the caller: `rail_profile`) as attributes of `loc`
+/// (docs/reference/04-table-files.md §4.1).
+pub(super) fn write_rail_record(
+    path: &Path,
+    loc: &hdf5::Location,
+    r: &RailProfileRecord,
+) -> Result<(), SchemaError> {
+    attrs::write_str(path, loc, "rail_profile_sha256", &r.sha256)?;
+    attrs::write_f64(path, loc, "rail_profile_cant_rad", r.carried_cant_rad)?;
+    attrs::write_str(
+        path,
+        loc,
+        "rail_profile_cant_source",
+        r.carried_cant_source.name(),
+    )
+}
+
+/// The rail profile record of `loc` for the file `file`: `None` when the
+/// digest is absent (files written before it was recorded).
+pub(super) fn read_rail_record(
+    path: &Path,
+    loc: &hdf5::Location,
+    what: &str,
+    file: String,
+) -> Result<Option<RailProfileRecord>, SchemaError> {
+    if !has_attr(loc, "rail_profile_sha256") {
+        return Ok(None);
+    }
+    let source = attrs::read_str(path, loc, what, "rail_profile_cant_source")?;
+    Ok(Some(RailProfileRecord {
+        file,
+        sha256: attrs::read_str(path, loc, what, "rail_profile_sha256")?,
+        carried_cant_rad: attrs::read_f64(path, loc, what, "rail_profile_cant_rad")?,
+        carried_cant_source: CantSource::from_name(&source).ok_or_else(|| {
+            SchemaError::Invalid {
+                path: path.to_path_buf(),
+                object: what.to_string(),
+                rule: format!(
+                    "rail_profile_cant_source is '{source}', not detected, declared or unknown"
+                ),
+            }
+        })?,
+    }))
+}
+
+/// The root attributes of a table file holding a track (no tables read).
+pub fn read_track_meta(path: &Path) -> Result<TrackMeta, SchemaError> {
+    read_meta(path, &open_checked(path)?)
+}
+
+fn read_meta(path: &Path, file: &hdf5::File) -> Result<TrackMeta, SchemaError> {
+    Ok(TrackMeta {
+        scheme: read_attr_str(path, file, "scheme")?,
+        step_m: read_attr_f64(path, file, "step_m")?,
+        gauge_m: read_attr_f64(path, file, "gauge_m")?,
+        rail_spacing_m: read_attr_f64(path, file, "rail_spacing_m")?,
+        cant_base_m: read_attr_f64(path, file, "cant_base_m")?,
+        rail_inclination: read_attr_str(path, file, "rail_inclination")?,
+        rail_inclination_rad: read_attr_f64(path, file, "rail_inclination_rad")?,
+        rail_profile: match has_attr(file, "rail_profile") {
+            true => read_rail_record(
+                path,
+                file,
+                "the file",
+                read_attr_str(path, file, "rail_profile")?,
+            )?,
+            false => None,
+        },
+        tool: read_attr_str(path, file, "tool")?,
+        tool_version: read_attr_str(path, file, "tool_version")?,
+    })
+}
+
 /// Load the track databases of a table file into memory.
 pub fn read_track(path: &Path) -> Result<TrackTables, SchemaError> {
     let file = open_checked(path)?;
-    let meta = TrackMeta {
-        scheme: read_attr_str(path, &file, "scheme")?,
-        step_m: read_attr_f64(path, &file, "step_m")?,
-        gauge_m: read_attr_f64(path, &file, "gauge_m")?,
-        rail_spacing_m: read_attr_f64(path, &file, "rail_spacing_m")?,
-        cant_base_m: read_attr_f64(path, &file, "cant_base_m")?,
-        rail_inclination: read_attr_str(path, &file, "rail_inclination")?,
-        rail_inclination_rad: read_attr_f64(path, &file, "rail_inclination_rad")?,
-        tool: read_attr_str(path, &file, "tool")?,
-        tool_version: read_attr_str(path, &file, "tool_version")?,
-    };
+    let meta = read_meta(path, &file)?;
     let table_err = |source| SchemaError::Table {
         path: path.to_path_buf(),
         source,
