@@ -354,6 +354,20 @@ fn default_scene_writes_results_and_plots() {
 fn ctrl_c_stops_cleanly_and_writes_the_results() {
     let dir = scratch("run_ctrl_c");
     let out = dir.join("interrupted.h5");
+    // The track built into the cache first, so that the interrupted run
+    // is integrating (not building its track) when the signal comes.
+    let warm = run(sim()
+        .env("RAILSIM_CACHE_DIR", dir.join("cache"))
+        .args([
+            "run",
+            &scene("wheelset_straight.toml"),
+            "--no-plots",
+            "--quiet",
+        ])
+        .arg("-o")
+        .arg(dir.join("warm.h5"))
+        .args(["--set", "run.distance_m=0.05"]));
+    assert!(warm.status.success(), "{}", stderr(&warm));
     let child = sim()
         .env("RAILSIM_CACHE_DIR", dir.join("cache"))
         .args([
@@ -370,7 +384,17 @@ fn ctrl_c_stops_cleanly_and_writes_the_results() {
         .stderr(std::process::Stdio::piped())
         .spawn()
         .expect("sim starts");
-    std::thread::sleep(std::time::Duration::from_millis(1500));
+    // The results file is created (under its temporary name) just before
+    // the run starts; a second later it is integrating.
+    let started = std::time::Instant::now();
+    while !files_in(&dir)
+        .iter()
+        .any(|f| f.starts_with(".interrupted.h5.tmp-"))
+        && started.elapsed().as_secs() < 120
+    {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    std::thread::sleep(std::time::Duration::from_millis(1000));
     let k = run(std::process::Command::new("kill").args(["-INT", &child.id().to_string()]));
     assert!(k.status.success(), "kill -INT failed");
     let o = child.wait_with_output().expect("sim ends");

@@ -474,6 +474,9 @@ fn a_byte_order_mark_is_read_in_every_format() {
         dir.join("bom_s1002.prw").to_str().unwrap(),
         "--rail",
         dir.join("bom_uic60.prr").to_str().unwrap(),
+        // The MBench rail file carries its 1:40 already.
+        "--rail-inclination",
+        "0",
     ]));
     assert!(o.status.success(), "{}", stderr(&o));
 }
@@ -537,7 +540,10 @@ fn sim_contact_refuses_or_warns() {
         run(sim()
             .args(["contact", "--wheel", wheel.to_str().unwrap(), "--rail"])
             .arg(shipped("profiles/MBench_UIC60_v3.prr"))
-            .args(["--rail-inclination", "1:40", "--wheel-radius", "0.43"])
+            // The shipped ML95-like set-up: 1:40 more on the canted file,
+            // declared (a 1:20 track for the 1:20 tread).
+            .args(["--rail-inclination", "1:40", "--rail-profile-cant", "1:40"])
+            .args(["--wheel-radius", "0.43"])
             .args(extra))
     };
     let o = contact(&[]);
@@ -572,6 +578,10 @@ fn track_preproc_contact_table_refuses_or_warns() {
             ])
             .arg(shipped("profiles/MBench_UIC60_v3.prr"))
             .args([
+                "--rail-inclination",
+                "1:40",
+                "--rail-profile-cant",
+                "1:40",
                 "--wheel-radius",
                 "0.43",
                 "--y-range-mm",
