@@ -69,7 +69,7 @@ fn finish_run(
 /// are of one run, [`runtime::io::OutputLock`]), the results file is
 /// created (probing the location), the run appends its samples to it as it goes
 /// ([`crate::run::run_scene_with_plan`] with a sink), then it is finished
-/// and the plots drawn ([`finish_run`]).
+/// and the plots drawn.
 pub fn run_to_files(
     req: &RunRequest,
     plan: Plan,
