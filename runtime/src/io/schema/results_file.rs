@@ -132,7 +132,10 @@ pub(super) const NADAL_ATTRIBUTES: [&str; 3] = ["flange_angle_rad", "friction", 
 // ---------------------------------------------------------------------------
 // Writing
 
-fn hdf5_err(path: &Path, action: impl Into<String>) -> impl FnOnce(hdf5::Error) -> SchemaError {
+pub(super) fn hdf5_err(
+    path: &Path,
+    action: impl Into<String>,
+) -> impl FnOnce(hdf5::Error) -> SchemaError {
     let path = path.to_path_buf();
     let action = action.into();
     move |source| SchemaError::Hdf5 {

@@ -10,7 +10,9 @@
 
 use std::path::{Path, PathBuf};
 
-use super::results_file::{NADAL_ATTRIBUTES, RESULTS_SCHEMA, RESULTS_SCHEMA_VERSION, RESULTS_TOOL};
+use super::results_file::{
+    NADAL_ATTRIBUTES, RESULTS_SCHEMA, RESULTS_SCHEMA_VERSION, RESULTS_TOOL, hdf5_err,
+};
 use super::{SchemaError, attrs};
 use crate::io::AtomicFile;
 use crate::results::{
@@ -32,16 +34,6 @@ pub struct ResultsWriter {
     wheelsets: Option<usize>,
     written: usize,
     last_time_s: Option<f64>,
-}
-
-fn hdf5_err(path: &Path, action: impl Into<String>) -> impl FnOnce(hdf5::Error) -> SchemaError {
-    let path = path.to_path_buf();
-    let action = action.into();
-    move |source| SchemaError::Hdf5 {
-        path,
-        action,
-        source,
-    }
 }
 
 /// Create the empty, extendable dataset `dataset` of `group`.
