@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 use runtime::forces::creep::CreepLaw;
+use runtime::multibody::loaded_wheelset::LoadConvention;
 
 /// Railway vehicle dynamics on pre-processed track tables.
 #[derive(Debug, Parser)]
@@ -147,9 +148,30 @@ pub struct ContactArgs {
         allow_negative_numbers = true
     )]
     pub yaw_mrad: f64,
+    /// Roll of the wheelset, positive raising the left wheel (rad); each
+    /// wheel is then solved at its own height. Default: solved so that both
+    /// wheels carry their load.
+    #[arg(long, value_name = "RAD", allow_negative_numbers = true)]
+    pub roll_rad: Option<f64>,
+    /// Angular velocity of the axle, positive rolling forward (rad/s); the
+    /// creepages are relative to it. Default: V/r₀.
+    #[arg(long, value_name = "W", allow_negative_numbers = true)]
+    pub axle_rate_rad_s: Option<f64>,
+    /// Poses file (CSV: y_mm, yaw_mrad and optional roll_rad,
+    /// axle_rate_rad_s, speed_m_s, vertical_force_per_wheel_n, case): every
+    /// pose in one run, one output row per contact patch. Replaces --y-mm,
+    /// --yaw-mrad, --roll-rad and --axle-rate-rad-s.
+    #[arg(long, value_name = "POSES.csv", conflicts_with_all = ["y_mm", "yaw_mrad", "roll_rad", "axle_rate_rad_s"])]
+    pub poses: Option<PathBuf>,
     /// Vertical load per wheel (N) (Hertzian contact).
     #[arg(long, default_value_t = 10_000.0, value_name = "N")]
     pub wheel_load_n: f64,
+    /// What the vertical load balances: `vertical` (the vertical components
+    /// of the normal and the creep forces of all the wheel's patches, solved
+    /// together: the Manchester benchmark's definition) or `normal` (the
+    /// normal forces' vertical components alone).
+    #[arg(long, value_enum, default_value_t = LoadConventionArg::Vertical)]
+    pub load_convention: LoadConventionArg,
     /// Rigid contact instead (both wheels just touching).
     #[arg(long)]
     pub rigid: bool,
@@ -176,9 +198,32 @@ pub struct ContactArgs {
     /// instead, and a warning names every dropped line.
     #[arg(long)]
     pub keep_longest_stretch: bool,
-    /// Print JSON.
-    #[arg(long)]
+    /// Print JSON (the same as --format json).
+    #[arg(long, conflicts_with = "format")]
     pub json: bool,
+    /// Output format: `text` (default), `json` (one object per pose) or
+    /// `csv` (one row per contact patch, in mm, rad, N, N·mm).
+    #[arg(long, value_enum)]
+    pub format: Option<ContactFormat>,
+    /// Write the output to this file (all or nothing) instead of standard
+    /// output.
+    #[arg(short = 'o', long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+}
+
+/// Load convention of `sim contact` (see `--load-convention`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum LoadConventionArg {
+    Vertical,
+    Normal,
+}
+
+/// Output format of `sim contact`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ContactFormat {
+    Text,
+    Json,
+    Csv,
 }
 
 /// Arguments of `sim critical-speed`.
@@ -428,7 +473,53 @@ impl ContactArgs {
         Ok(crate::studies::contact::Rolling {
             speed_m_s: self.speed_m_s,
             settings,
+            convention: match self.load_convention {
+                LoadConventionArg::Vertical => LoadConvention::Vertical,
+                LoadConventionArg::Normal => LoadConvention::Normal,
+            },
         })
+    }
+
+    /// The output format asked for.
+    pub fn format(&self) -> ContactFormat {
+        match (self.format, self.json) {
+            (Some(f), _) => f,
+            (None, true) => ContactFormat::Json,
+            (None, false) => ContactFormat::Text,
+        }
+    }
+
+    /// The single pose of the command line.
+    pub fn pose(&self) -> crate::studies::contact::PoseRequest {
+        crate::studies::contact::PoseRequest {
+            case: 1,
+            y_m: self.y_mm * 1e-3,
+            yaw_rad: self.yaw_mrad * 1e-3,
+            roll_rad: self.roll_rad,
+            axle_rate_rad_s: self.axle_rate_rad_s,
+            speed_m_s: None,
+            load_n: None,
+        }
+    }
+
+    /// The output file, checked before the work: not one of the inputs,
+    /// its folder writable.
+    pub fn checked_out(&self) -> Result<Option<PathBuf>> {
+        let Some(out) = &self.out else {
+            return Ok(None);
+        };
+        use runtime::io::{Output, OutputKind, check_outputs};
+        let mut inputs = vec![self.wheel.clone(), self.rail.clone()];
+        inputs.extend(self.poses.iter().cloned());
+        check_outputs(
+            &inputs,
+            &[Output {
+                path: out.clone(),
+                kind: OutputKind::File,
+                role: "the contact output",
+            }],
+        )?;
+        Ok(Some(out.clone()))
     }
 
     /// Second stage: checked settings.

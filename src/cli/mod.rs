@@ -44,30 +44,74 @@ pub(crate) fn check_scene_rail(scene: &crate::config::scene::LoadedScene) -> Res
     Ok(())
 }
 
+/// `sim contact`: one pose or a poses file; text, JSON or CSV; to standard
+/// output or, all or nothing, to `--out`.
+fn contact_command(args: &args::ContactArgs) -> Result<()> {
+    use crate::studies::contact as study;
+    use args::ContactFormat;
+    let config = args.to_config()?;
+    let rolling = args.to_rolling()?;
+    let out = args.checked_out()?;
+    // Warnings of the rail profile now; a refusal comes from the model,
+    // after the wheel profile is read (its errors first).
+    if let Ok(check) = config.check_rail() {
+        print_warnings(&check.warnings);
+    }
+    let started = std::time::Instant::now();
+    let cases = match &args.poses {
+        Some(path) => {
+            let poses = study::read_poses(path)?;
+            study::contact_batch(&config, &poses, path, &rolling)?.1
+        }
+        None => vec![study::contact_case(&config, &args.pose(), &rolling)?],
+    };
+    let elapsed = started.elapsed();
+    let text = match args.format() {
+        ContactFormat::Json if args.poses.is_some() => serde_json::to_string_pretty(&cases)? + "\n",
+        ContactFormat::Json => serde_json::to_string_pretty(&cases[0])? + "\n",
+        ContactFormat::Csv => study::rows_csv(&study::patch_rows(&cases)),
+        ContactFormat::Text if args.poses.is_some() => {
+            let mut t: String = cases
+                .iter()
+                .flat_map(|c| c.warnings.iter())
+                .map(|w| format!("warning: {w}\n"))
+                .collect();
+            t += &study::rows_table(&study::patch_rows(&cases));
+            t += &format!(
+                "{} poses in {:.0} ms ({} convention, creep law {})\n",
+                cases.len(),
+                elapsed.as_secs_f64() * 1e3,
+                rolling.convention.name(),
+                rolling.settings.creep_law.name()
+            );
+            t
+        }
+        ContactFormat::Text => cases[0].to_text(),
+    };
+    match out {
+        Some(path) => {
+            runtime::io::atomic::write_atomically(&path, |tmp| std::fs::write(tmp, &text))
+                .with_context(|| format!("writing {}", path.display()))?;
+            eprintln!("wrote {} ({} poses)", path.display(), cases.len());
+        }
+        None => {
+            use std::io::Write;
+            let mut stdout = std::io::stdout().lock();
+            // A closed pipe (`| head`) ends the output quietly.
+            if let Err(e) = stdout.write_all(text.as_bytes()).and_then(|_| stdout.flush())
+                && e.kind() != std::io::ErrorKind::BrokenPipe
+            {
+                return Err(e.into());
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Run the CLI.
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
-        Command::Contact(args) => {
-            let config = args.to_config()?;
-            let rolling = args.to_rolling()?;
-            // Warnings of the rail profile now; a refusal comes from the
-            // model, after the wheel profile is read (its errors first).
-            if let Ok(check) = config.check_rail() {
-                print_warnings(&check.warnings);
-            }
-            let (case, _) = crate::studies::contact::contact_case(
-                &config,
-                args.y_mm * 1e-3,
-                args.yaw_mrad * 1e-3,
-                &rolling,
-            )?;
-            if args.json {
-                println!("{}", serde_json::to_string_pretty(&case)?);
-            } else {
-                print!("{}", case.to_text());
-            }
-            Ok(())
-        }
+        Command::Contact(args) => contact_command(&args),
         Command::CreepCurves(args) => {
             let config = args.to_config()?;
             let curves = crate::studies::creep_curves::creep_curves(&config)?;

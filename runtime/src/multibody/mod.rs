@@ -37,6 +37,7 @@ mod error;
 mod evaluate;
 pub mod imported_contact;
 pub mod linear;
+pub mod loaded_wheelset;
 pub mod recorder;
 mod settings;
 pub mod system;
