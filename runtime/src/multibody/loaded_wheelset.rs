@@ -657,3 +657,101 @@ fn solve_with_roll(
         Some(&e),
     ))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fixtures::wheelsets::{flange_solver, s1002_uic60, straight_track_for};
+    use crate::forces::creep::CreepLaw;
+    use crate::forces::hertz::Material;
+
+    fn settings() -> ContactForceSettings {
+        ContactForceSettings {
+            material: Material {
+                young_pa: 2.0 * 82e9 * 1.28,
+                poisson: 0.28,
+            },
+            creep_law: CreepLaw::from_name("fastsim").expect("law"),
+            ..Default::default()
+        }
+    }
+
+    fn input(y_mm: f64, yaw_mrad: f64, roll_rad: Option<f64>) -> PoseInput {
+        PoseInput {
+            s_m: 5.0,
+            y_m: y_mm * 1e-3,
+            yaw_rad: yaw_mrad * 1e-3,
+            roll_rad,
+            axle_rate_rad_s: None,
+            speed_m_s: 2.0,
+            load_per_wheel_n: [10_000.0, 10_000.0],
+        }
+    }
+
+    fn solve(i: &PoseInput, c: LoadConvention) -> Result<LoadedWheelset, LoadedPoseError> {
+        let model = s1002_uic60().expect("profiles");
+        let track = straight_track_for(&model, 10.0);
+        solve_loaded_pose(&model, &track, &mut flange_solver(), &settings(), i, c)
+    }
+
+    /// Each convention balances its own sum: Σ f·b (vertical) or Σ N n·b
+    /// (normal) equals the load on both wheels, to 1e-6 relative.
+    #[test]
+    fn each_convention_carries_the_load_its_way() {
+        for c in [LoadConvention::Vertical, LoadConvention::Normal] {
+            let l = solve(&input(-6.0, -14.4, None), c).expect("solves");
+            assert!(l.roll_solved);
+            for w in &l.wheels {
+                let sum: f64 = w
+                    .patches
+                    .iter()
+                    .map(|p| match c {
+                        LoadConvention::Vertical => p.force_on_wheel_n.z,
+                        LoadConvention::Normal => p.normal_n * p.candidate.normal.z,
+                    })
+                    .sum();
+                assert!((sum - 1e4).abs() < 1e-2, "{c:?} {}: {sum}", w.side);
+            }
+        }
+    }
+
+    /// A given roll solves each wheel at its own height; the roll is kept.
+    #[test]
+    fn a_given_roll_gives_each_wheel_its_height() {
+        let l = solve(&input(-3.0, -7.2, Some(-0.0018)), LoadConvention::Vertical).expect("solves");
+        assert_eq!(l.roll_rad, -0.0018);
+        assert!(!l.roll_solved);
+        assert!((l.wheels[0].height_m - l.wheels[1].height_m).abs() > 1e-7);
+        for w in &l.wheels {
+            assert!(
+                (w.force_track_n.z - 1e4).abs() < 1e-2,
+                "{}",
+                w.force_track_n
+            );
+        }
+    }
+
+    /// Inputs out of range (a unit slip) are refused before any work.
+    #[test]
+    fn implausible_inputs_are_refused() {
+        let mut i = input(0.0, 0.0, None);
+        i.y_m = 5.0;
+        let e = solve(&i, LoadConvention::Vertical).unwrap_err();
+        assert!(e.to_string().contains("check the unit"), "{e}");
+        let mut i = input(0.0, 0.0, None);
+        i.load_per_wheel_n = [10.0e6, 10.0e6];
+        let e = solve(&i, LoadConvention::Vertical).unwrap_err();
+        assert!(e.to_string().contains("check the unit"), "{e}");
+        let mut i = input(0.0, 0.0, None);
+        i.speed_m_s = 300.0;
+        assert!(solve(&i, LoadConvention::Vertical).is_err());
+    }
+
+    #[test]
+    fn convention_names_round_trip() {
+        for c in [LoadConvention::Vertical, LoadConvention::Normal] {
+            assert_eq!(c.name().parse::<LoadConvention>(), Ok(c));
+        }
+        assert!("weight".parse::<LoadConvention>().is_err());
+    }
+}
