@@ -98,7 +98,9 @@ fn contact_command(args: &args::ContactArgs) -> Result<()> {
             use std::io::Write;
             let mut stdout = std::io::stdout().lock();
             // A closed pipe (`| head`) ends the output quietly.
-            if let Err(e) = stdout.write_all(text.as_bytes()).and_then(|_| stdout.flush())
+            if let Err(e) = stdout
+                .write_all(text.as_bytes())
+                .and_then(|_| stdout.flush())
                 && e.kind() != std::io::ErrorKind::BrokenPipe
             {
                 return Err(e.into());

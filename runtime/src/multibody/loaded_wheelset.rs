@@ -31,8 +31,8 @@ use crate::forces::hertz::HertzShape;
 use crate::geometry::track::{Side, TrackTables};
 
 use super::contact_force::{
-    ContactForceError, ContactForceSettings, NonHertzianPolicy, TangentialContact,
-    WheelsetMotion, contact_creepages, hertz_shape_with_policy, tangential_forces,
+    ContactForceError, ContactForceSettings, NonHertzianPolicy, TangentialContact, WheelsetMotion,
+    contact_creepages, hertz_shape_with_policy, tangential_forces,
 };
 
 /// What the prescribed vertical force per wheel balances
@@ -108,7 +108,11 @@ pub enum LoadedPoseError {
     #[error(
         "no contact candidate on the {side} wheel at y = {y_mm:.2} mm, yaw = {yaw_mrad:.2} mrad: the wheel is off its rail"
     )]
-    OffRail { side: Side, y_mm: f64, yaw_mrad: f64 },
+    OffRail {
+        side: Side,
+        y_mm: f64,
+        yaw_mrad: f64,
+    },
     #[error(
         "the {what} could not be solved at y = {y_mm:.2} mm, yaw = {yaw_mrad:.2} mrad after {iterations} iterations (load residual {residual_n:.1} N){detail}"
     )]
@@ -225,10 +229,10 @@ struct Context<'a> {
 impl Context<'_> {
     fn pose(&self, z_m: f64, roll_rad: f64) -> Result<WheelsetPose, LoadedPoseError> {
         let i = self.input;
-        Ok(WheelsetPose::on_track(
-            self.track, i.s_m, i.y_m, z_m, i.yaw_rad, roll_rad,
+        Ok(
+            WheelsetPose::on_track(self.track, i.s_m, i.y_m, z_m, i.yaw_rad, roll_rad)
+                .map_err(ContactError::from)?,
         )
-        .map_err(ContactError::from)?)
     }
 
     fn off_rail(&self, side: Side) -> LoadedPoseError {
@@ -459,12 +463,7 @@ fn finish(
     height_m: f64,
     e: WheelEval,
 ) -> LoadedWheel {
-    let frame = ctx
-        .track
-        .centerline
-        .at(ctx.input.s_m)
-        .map(|c| c.frame)
-        .ok();
+    let frame = ctx.track.centerline.at(ctx.input.s_m).map(|c| c.frame).ok();
     let total: Vector3<f64> = e.patches.iter().map(|p| p.force_on_wheel_n).sum();
     let force_track_n = frame.map_or(total, |f| {
         Vector3::new(
@@ -532,12 +531,13 @@ fn solve_each_wheel(
     let mut total_iterations = 0;
     for (i, side) in Side::BOTH.into_iter().enumerate() {
         let load = ctx.input.load_per_wheel_n[i];
-        let residual = |z: f64, solver: &mut ContactSolver| -> Result<(f64, WheelEval), LoadedPoseError> {
-            let pose = ctx.pose(z, roll)?;
-            let [l, r] = ctx.eval(solver, &pose)?;
-            let e = if i == 0 { l } else { r };
-            Ok((e.residual_m(load), e))
-        };
+        let residual =
+            |z: f64, solver: &mut ContactSolver| -> Result<(f64, WheelEval), LoadedPoseError> {
+                let pose = ctx.pose(z, roll)?;
+                let [l, r] = ctx.eval(solver, &pose)?;
+                let e = if i == 0 { l } else { r };
+                Ok((e.residual_m(load), e))
+            };
         let mut z = r0;
         let (mut g, mut e) = residual(z, solver)?;
         let mut done = false;
@@ -572,13 +572,7 @@ fn solve_each_wheel(
         }
         if !done {
             let res = (e.vertical_n - load).abs();
-            return Err(not_settled(
-                ctx,
-                "height",
-                MAX_ITERATIONS,
-                res,
-                Some(&[e]),
-            ));
+            return Err(not_settled(ctx, "height", MAX_ITERATIONS, res, Some(&[e])));
         }
         let pose = ctx.pose(z, roll)?;
         wheels.push(finish(ctx, side, pose, z, e));

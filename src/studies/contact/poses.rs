@@ -126,7 +126,9 @@ mod tests {
 
     #[test]
     fn reads_required_and_optional_columns_in_si() {
-        let t = table("# A-2.2\ncase,y_mm,yaw_mrad,roll_rad,axle_rate_rad_s\n7,-3.0,-7.2,-0.00018,4.345\n");
+        let t = table(
+            "# A-2.2\ncase,y_mm,yaw_mrad,roll_rad,axle_rate_rad_s\n7,-3.0,-7.2,-0.00018,4.345\n",
+        );
         let p = parse_poses(&t).expect("poses");
         assert_eq!(p.len(), 1);
         assert_eq!(p[0].case, 7);
@@ -141,7 +143,10 @@ mod tests {
     #[test]
     fn unknown_or_missing_columns_are_refused() {
         let e = parse_poses(&table("y_mm,yaw_mrad,rol_rad\n1,2,3\n")).unwrap_err();
-        assert!(e.to_string().contains("'rol_rad' is not a poses column"), "{e}");
+        assert!(
+            e.to_string().contains("'rol_rad' is not a poses column"),
+            "{e}"
+        );
         let e = parse_poses(&table("y_mm,roll_rad\n1,2\n")).unwrap_err();
         assert!(e.to_string().contains("no 'yaw_mrad' column"), "{e}");
         let e = parse_poses(&table("y_mm,yaw_mrad\n")).unwrap_err();

@@ -206,7 +206,12 @@ fn geometry_report(setup: &ContactSetup, patch: u32, c: &Candidate) -> ContactRe
     }
 }
 
-fn patch_report(setup: &ContactSetup, k: usize, p: &LoadedPatch, up: &nalgebra::Vector3<f64>) -> ContactReport {
+fn patch_report(
+    setup: &ContactSetup,
+    k: usize,
+    p: &LoadedPatch,
+    up: &nalgebra::Vector3<f64>,
+) -> ContactReport {
     let mut r = geometry_report(setup, k as u32 + 1, &p.candidate);
     r.normal_n = p.normal_n;
     r.vertical_n = p.force_on_wheel_n.dot(up);
@@ -215,8 +220,8 @@ fn patch_report(setup: &ContactSetup, k: usize, p: &LoadedPatch, up: &nalgebra::
         let (a, b) = (t.hertz.a_rolling_m, t.hertz.b_lateral_m);
         r.a_m = Some(a);
         r.b_m = Some(b);
-        r.pmax_pa = (a > 0.0 && b > 0.0)
-            .then(|| 3.0 * p.normal_n / (2.0 * std::f64::consts::PI * a * b));
+        r.pmax_pa =
+            (a > 0.0 && b > 0.0).then(|| 3.0 * p.normal_n / (2.0 * std::f64::consts::PI * a * b));
         r.xi = Some(t.creepages.xi);
         r.eta = Some(t.creepages.eta);
         r.phi_per_m = Some(t.creepages.phi_1_m);
@@ -256,10 +261,7 @@ pub(super) fn loaded_case(
                 if let Some(e) = &c.force_error {
                     warnings.push(format!(
                         "pose {}: {} wheel patch {} ({}) carries its normal force only: {e}",
-                        request.case,
-                        w.side,
-                        c.patch,
-                        c.zone
+                        request.case, w.side, c.patch, c.zone
                     ));
                 }
             }
@@ -302,8 +304,11 @@ pub(super) fn rigid_case(
     let wheels = Side::BOTH
         .into_iter()
         .map(|side| {
-            let mut cands: Vec<&Candidate> =
-                st.contacts.side(side).filter(|c| c.penetration_m >= -1e-9).collect();
+            let mut cands: Vec<&Candidate> = st
+                .contacts
+                .side(side)
+                .filter(|c| c.penetration_m >= -1e-9)
+                .collect();
             cands.sort_by(|a, b| b.penetration_m.total_cmp(&a.penetration_m));
             WheelReport {
                 side: side.name(),
@@ -325,9 +330,7 @@ pub(super) fn rigid_case(
             roll_solved: true,
             y_m: request.y_m,
             yaw_rad: request.yaw_rad,
-            axle_rate_rad_s: request
-                .axle_rate_rad_s
-                .unwrap_or(speed_m_s / r0.max(1e-3)),
+            axle_rate_rad_s: request.axle_rate_rad_s.unwrap_or(speed_m_s / r0.max(1e-3)),
             speed_m_s,
             load_per_wheel_n: None,
             load_convention: "rigid",

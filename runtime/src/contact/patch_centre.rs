@@ -1,0 +1,402 @@
+//! The centre of a contact patch: the centroid of the undeformed
+//! interpenetration of wheel and rail, weighted by its depth
+//! (docs/reference/06-contact-detection.md §6.8).
+//!
+//! The contact equations (§6.1) find the point of **maximum** penetration.
+//! Where the gap between the profiles is quadratic (Hertzian) the
+//! interpenetration is symmetric about that point and its centroid is the
+//! point itself; where the gap is nearly flat (near-conformal tread contact,
+//! S1002 on UIC60 1:40 near the centre) the overlap is wide and lopsided and
+//! the centroid, where the pressure's resultant acts, lies millimetres away.
+//! CONTACT (Vollebregt) reports this centroid as its "contact reference
+//! location"; semi-Hertzian methods (Kik–Piotrowski, Ayasse–Chollet's
+//! STRIPES) also place the patch at the centre of the interpenetration.
+//!
+//! The overlap is taken in the rail's cross-section at the candidate's
+//! `s_r`, measured **vertically** (along the rail frame's `b`, the track
+//! normal there), as a function of the lateral coordinate along `n`: rail
+//! height `f_r(ℓ)` minus the height of the wheel's section at the
+//! candidate's angle `s_w` (its lead for a yawed wheelset), projected onto
+//! that cross-section. Vertical because it is the measure CONTACT's
+//! reference location is defined with (so the two are comparable), and
+//! because both profiles are functions of the lateral coordinate in that
+//! direction (no curve inversion); for tread contacts (|γ| < 0.05 rad) it
+//! differs from the overlap along the normal by the factor 1/cos γ ≤ 1.0013,
+//! which is nearly uniform across a patch and cancels in the centroid.
+
+use super::candidate::Candidate;
+use super::geometry::SurfaceParams;
+use super::{ContactError, WheelsetContactModel, WheelsetPose};
+use crate::geometry::track::TrackTables;
+
+/// Half-width of the sampled window about the deepest point (m): ±25 mm
+/// holds the widest overlap of a near-conformal tread patch (about 20 mm
+/// for S1002 on UIC60 1:40 at 10 kN); an overlap reaching it is reported
+/// as truncated ([`PatchCentre::truncated`]).
+pub const WINDOW_HALF_WIDTH_M: f64 = 0.025;
+/// Lateral sampling step on the wheel profile (m): 0.05 mm, 1/100 of a
+/// typical 5 mm half-width, so the trapezoidal centroid of a smooth overlap
+/// is exact to well below 1 µm (error O(h²)).
+pub const SAMPLE_STEP_M: f64 = 5e-5;
+
+/// A patch's centre and its interpenetration.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PatchCentre {
+    /// The candidate re-evaluated at the centre: points, contact frame,
+    /// angle, rolling radius, curvatures and profile coordinates are those
+    /// at the centre; `penetration_m` is the deepest point's δ (the
+    /// approach), unchanged, and so are `iterations`, `cold_start` and
+    /// `method`.
+    pub candidate: Candidate,
+    /// Lateral width of the connected overlap region in the rail's
+    /// cross-section (m); 0 when the overlap is narrower than one sample.
+    pub overlap_width_m: f64,
+    /// Lateral distance from the deepest point's rail point to the centre
+    /// along the rail's lateral axis `n` (positive left) (m).
+    pub offset_m: f64,
+    /// The overlap reached the sampled window ([`WINDOW_HALF_WIDTH_M`]) or
+    /// the end of a profile: the part beyond is not in the centroid.
+    pub truncated: bool,
+}
+
+/// One sample of the overlap: lateral coordinate ℓ along the rail's `n`
+/// (m) and vertical overlap z (m, > 0 where the undeformed bodies
+/// interpenetrate).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct OverlapSample {
+    pub lateral_m: f64,
+    pub overlap_m: f64,
+}
+
+/// The connected overlap region around sample 0 and its depth-weighted
+/// centroid.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct OverlapCentroid {
+    /// ∫ z ℓ dℓ / ∫ z dℓ (m).
+    pub lateral_m: f64,
+    /// Distance between the region's two zero crossings (m).
+    pub width_m: f64,
+    /// The region reached the last sample on a side (or a sample outside
+    /// a profile) with z > 0.
+    pub truncated: bool,
+}
+
+/// ∫ max(z, 0) dℓ and ∫ max(z, 0) ℓ dℓ over the segment between two
+/// samples, z linear in between (the positive part integrated exactly, so
+/// the sums are continuous as the region's ends move between samples).
+fn positive_moments(a: OverlapSample, b: OverlapSample) -> (f64, f64) {
+    let (a, b) = if a.lateral_m <= b.lateral_m {
+        (a, b)
+    } else {
+        (b, a)
+    };
+    let (mut l0, mut z0, mut l1, mut z1) = (a.lateral_m, a.overlap_m, b.lateral_m, b.overlap_m);
+    if z0 <= 0.0 && z1 <= 0.0 {
+        return (0.0, 0.0);
+    }
+    // Clip to the sub-segment where z > 0.
+    if z0 < 0.0 {
+        let t = z0 / (z0 - z1);
+        l0 += t * (l1 - l0);
+        z0 = 0.0;
+    } else if z1 < 0.0 {
+        let t = z0 / (z0 - z1);
+        l1 = l0 + t * (l1 - l0);
+        z1 = 0.0;
+    }
+    let dl = l1 - l0;
+    let area = 0.5 * (z0 + z1) * dl;
+    let moment = dl * (z0 * (2.0 * l0 + l1) + z1 * (l0 + 2.0 * l1)) / 6.0;
+    (area, moment)
+}
+
+/// Where a region's end lies between its last overlapping sample `inside`
+/// and the first clear one `outside` (linear zero crossing) (m).
+fn zero_crossing(inside: OverlapSample, outside: OverlapSample) -> f64 {
+    let t = inside.overlap_m / (inside.overlap_m - outside.overlap_m);
+    inside.lateral_m + t * (outside.lateral_m - inside.lateral_m)
+}
+
+/// The centroid of the connected overlap region containing sample 0.
+/// `sample(k)` gives sample k (k = −n … n, in order of increasing
+/// lateral coordinate), `None` outside the profiles. Samples are evaluated
+/// outwards from 0 only until the overlap ends, so the cost is proportional
+/// to the region's width, not the window's. `None` when sample 0 does not
+/// overlap.
+pub(crate) fn overlap_centroid(
+    n: i64,
+    mut sample: impl FnMut(i64) -> Option<OverlapSample>,
+) -> Option<OverlapCentroid> {
+    let s0 = sample(0).filter(|s| s.overlap_m > 0.0)?;
+    let (mut area, mut moment) = (0.0, 0.0);
+    let mut truncated = false;
+    let mut ends = [s0.lateral_m; 2];
+    for (i, dir) in [-1i64, 1].into_iter().enumerate() {
+        let mut prev = s0;
+        let mut k = 0;
+        loop {
+            k += dir;
+            let next = if k.abs() <= n { sample(k) } else { None };
+            let Some(next) = next else {
+                truncated = true;
+                ends[i] = prev.lateral_m;
+                break;
+            };
+            let (a, m) = positive_moments(prev, next);
+            area += a;
+            moment += m;
+            if next.overlap_m <= 0.0 {
+                ends[i] = zero_crossing(prev, next);
+                break;
+            }
+            prev = next;
+        }
+    }
+    if area <= 0.0 {
+        // A single overlapping sample between two clear ones has a
+        // positive area; this is a degenerate (zero-width) overlap.
+        return Some(OverlapCentroid {
+            lateral_m: s0.lateral_m,
+            width_m: 0.0,
+            truncated,
+        });
+    }
+    Some(OverlapCentroid {
+        lateral_m: moment / area,
+        width_m: (ends[1] - ends[0]).abs(),
+        truncated,
+    })
+}
+
+/// The centre of the patch of candidate `c` (in contact, δ ≥ 0) of the
+/// wheelset at `pose` (see the module docs). `Ok(None)` when `c` is not in
+/// contact or its wheel piece does not exist; the candidate itself (offset
+/// 0, width 0) when its overlap is narrower than the sampling resolves.
+pub fn patch_centre(
+    model: &WheelsetContactModel,
+    track: &TrackTables,
+    pose: &WheelsetPose,
+    c: &Candidate,
+) -> Result<Option<PatchCentre>, ContactError> {
+    if !c.in_contact() {
+        return Ok(None);
+    }
+    let Some(pair) = model.pair(track, pose, c.side, c.segment) else {
+        return Ok(None);
+    };
+    let rail = pair.rail_table.at(c.params.s_rail_m)?;
+    let (p, n, b) = (
+        rail.position,
+        rail.frame.n.normalize(),
+        rail.frame.b.normalize(),
+    );
+    let sg = pair.sigma;
+    let head = pair.rail.head();
+    let wheel = model.wheel(c.side);
+    let (w_min, w_max) = match (wheel.segments().first(), wheel.segments().last()) {
+        (Some(f), Some(l)) => (f.curve.domain_m().0, l.curve.domain_m().1),
+        _ => return Ok(None),
+    };
+    let s_w = c.params.s_wheel_rad;
+    let u_w0 = c.params.u_wheel_m;
+    let wheel_u = |k: i64| u_w0 + k as f64 * SAMPLE_STEP_M;
+    // Internal (right-hand) profile coordinates are σ·u (geometry module).
+    let sample = |k: i64| -> Option<OverlapSample> {
+        let u_w = wheel_u(k);
+        let uw_int = sg * u_w;
+        if !(w_min..=w_max).contains(&uw_int) {
+            return None;
+        }
+        let d = pair.wheel_point_m(s_w, u_w) - p;
+        let lateral_m = d.dot(&n);
+        if !head.contains(sg * lateral_m, 0.0) {
+            return None;
+        }
+        Some(OverlapSample {
+            lateral_m,
+            overlap_m: head.at(sg * lateral_m).z_m - d.dot(&b),
+        })
+    };
+    let n_samples = (WINDOW_HALF_WIDTH_M / SAMPLE_STEP_M).round() as i64;
+    let Some(centroid) = overlap_centroid(n_samples, sample) else {
+        // δ ≥ 0 but no vertical overlap at the deepest point's own section
+        // (δ below the rounding of the heights): the patch is a point.
+        return Ok(Some(PatchCentre {
+            candidate: *c,
+            overlap_width_m: 0.0,
+            offset_m: 0.0,
+            truncated: false,
+        }));
+    };
+    let l0 = sample(0).map_or(centroid.lateral_m, |s| s.lateral_m);
+    // The wheel's u at the centroid's lateral coordinate: ℓ(u_w) is
+    // monotonic (≈ u_w cos roll), so bracket it among the samples.
+    let direction = if centroid.lateral_m >= l0 { 1 } else { -1 };
+    let mut k: i64 = 0;
+    let mut u_w = u_w0;
+    let mut prev = (wheel_u(0), l0);
+    while k.abs() < n_samples {
+        k += direction;
+        let Some(s) = sample(k) else { break };
+        let here = (wheel_u(k), s.lateral_m);
+        let (lo, hi) = (prev.1.min(here.1), prev.1.max(here.1));
+        if (lo..=hi).contains(&centroid.lateral_m) {
+            let t = if hi > lo {
+                (centroid.lateral_m - prev.1) / (here.1 - prev.1)
+            } else {
+                0.0
+            };
+            u_w = prev.0 + t * (here.0 - prev.0);
+            break;
+        }
+        prev = here;
+        u_w = here.0;
+    }
+    let params = SurfaceParams {
+        u_rail_m: centroid.lateral_m,
+        u_wheel_m: u_w,
+        ..c.params
+    };
+    let Some(mut at_centre) = model.candidate_at(track, pose, c.side, c.segment, params)? else {
+        return Ok(None);
+    };
+    at_centre.penetration_m = c.penetration_m;
+    at_centre.iterations = c.iterations;
+    at_centre.cold_start = c.cold_start;
+    at_centre.method = c.method;
+    Ok(Some(PatchCentre {
+        candidate: at_centre,
+        overlap_width_m: centroid.width_m,
+        offset_m: centroid.lateral_m - c.params.u_rail_m,
+        truncated: centroid.truncated,
+    }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::ContactSolver;
+    use crate::fixtures::wheelsets;
+    use crate::geometry::profile::Zone;
+    use crate::geometry::track::Side;
+
+    const H: f64 = 1e-4;
+
+    /// Samples of z(ℓ) every H.
+    fn centroid_of(z: impl Fn(f64) -> f64, n: i64) -> Option<OverlapCentroid> {
+        overlap_centroid(n, |k| {
+            let l = k as f64 * H;
+            Some(OverlapSample {
+                lateral_m: l,
+                overlap_m: z(l),
+            })
+        })
+    }
+
+    #[test]
+    fn symmetric_quadratic_gap_centroid_is_the_deepest_point() {
+        // Hertzian gap: overlap δ − A ℓ², δ = 0.05 mm, A = 2 1/m → half-width 5 mm.
+        let c = centroid_of(|l| 5e-5 - 2.0 * l * l, 250).expect("overlap");
+        assert!(c.lateral_m.abs() < 1e-12, "{c:?}");
+        assert!((c.width_m - 0.01).abs() < 1e-9, "{c:?}");
+        assert!(!c.truncated);
+    }
+
+    #[test]
+    fn asymmetric_gap_centroid_moves_towards_the_wider_side() {
+        // Deepest at 0; flatter (wider) to the right: half-widths 5 mm left,
+        // 10 mm right. Piecewise parabolas: centroid of a parabolic cap of
+        // half-width w is 3w/8 from its apex, weights 2/3·δ·w each, so the
+        // centroid is (−(3/8)·5·5 + (3/8)·10·10)/(5 + 10) mm = 1.875 mm.
+        let d = 5e-5;
+        let z = |l: f64| {
+            let w: f64 = if l < 0.0 { 0.005 } else { 0.010 };
+            d * (1.0 - (l / w).powi(2))
+        };
+        let c = centroid_of(z, 250).expect("overlap");
+        assert!((c.lateral_m - 1.875e-3).abs() < 1e-6, "{c:?}");
+        assert!((c.width_m - 0.015).abs() < 1e-9, "{c:?}");
+    }
+
+    #[test]
+    fn a_separate_overlap_region_is_another_patch() {
+        // Two caps: the seed's (centred at 0, half-width 2 mm) and a deeper
+        // one at 8 mm; only the first counts.
+        let z = |l: f64| {
+            let a = 2e-5 * (1.0 - (l / 0.002).powi(2));
+            let b = 9e-5 * (1.0 - ((l - 0.008) / 0.002).powi(2));
+            a.max(b)
+        };
+        let c = centroid_of(z, 250).expect("overlap");
+        assert!(c.lateral_m.abs() < 1e-9, "{c:?}");
+        assert!((c.width_m - 0.004).abs() < 1e-9, "{c:?}");
+    }
+
+    #[test]
+    fn an_overlap_beyond_the_window_is_flagged_truncated() {
+        let c = centroid_of(|l| 5e-5 - 0.01 * l * l, 50).expect("overlap");
+        assert!(c.truncated, "{c:?}");
+        assert!(centroid_of(|_| -1e-6, 50).is_none());
+    }
+
+    /// The centred S1002/UIC60 wheelset, 10 kN-like approach (A-2.2 case 1):
+    /// the gap is nearly flat, the overlap wide and lopsided, and the centre
+    /// is re-evaluated there with the deepest point's penetration.
+    #[test]
+    fn near_conformal_tread_centre_is_off_the_deepest_point() {
+        let model = wheelsets::s1002_uic60().expect("fixture");
+        let track = wheelsets::straight_track_for(&model, 20.0);
+        let mut solver = wheelsets::flange_solver();
+        let tread = |z: f64, solver: &mut ContactSolver| {
+            let pose = WheelsetPose::on_track(&track, 10.0, 0.0, z, 0.0, 0.0).expect("pose");
+            let cs = solver.solve(&model, &track, &pose).expect("solve");
+            (pose, *cs.get(Side::Left, Zone::Tread).expect("tread"))
+        };
+        // Lower the wheelset until the approach is about 0.02 mm.
+        let (_, c0) = tread(0.46, &mut solver);
+        let (pose, c) = tread(0.46 + c0.penetration_m - 2e-5, &mut solver);
+        assert!(c.penetration_m > 1e-5, "{c:?}");
+        let centre = patch_centre(&model, &track, &pose, &c)
+            .expect("centre")
+            .expect("in contact");
+        let cc = centre.candidate;
+        assert_eq!(cc.penetration_m, c.penetration_m);
+        assert!(!centre.truncated, "{centre:?}");
+        assert!(centre.overlap_width_m > 0.005, "{centre:?}");
+        // Off by more than the 0.1 mm a Hertzian patch would give, less than
+        // half the width.
+        assert!(
+            centre.offset_m.abs() > 1e-4 && centre.offset_m.abs() < 0.5 * centre.overlap_width_m,
+            "{centre:?}"
+        );
+        // Rail and wheel points at the same lateral position, at the centre.
+        let rail = track.rail(Side::Left).at(c.params.s_rail_m).expect("rail");
+        let n = rail.frame.n.normalize();
+        let lat = |v: nalgebra::Vector3<f64>| (v - rail.position).dot(&n);
+        assert!((lat(cc.rail_point) - lat(c.rail_point) - centre.offset_m).abs() < 1e-9);
+        assert!(
+            (lat(cc.wheel_point) - lat(cc.rail_point)).abs() < 1e-7,
+            "{cc:?}"
+        );
+        // The frame and the angle are those of the rail at the centre.
+        assert!(cc.contact_angle_rad != c.contact_angle_rad);
+        assert!((cc.normal.norm() - 1.0).abs() < 1e-12);
+    }
+
+    /// Not in contact: no centre.
+    #[test]
+    fn a_gap_has_no_centre() {
+        let model = wheelsets::s1002_uic60().expect("fixture");
+        let track = wheelsets::straight_track_for(&model, 20.0);
+        let mut solver = wheelsets::flange_solver();
+        let pose = WheelsetPose::on_track(&track, 10.0, 0.0, 0.465, 0.0, 0.0).expect("pose");
+        let cs = solver.solve(&model, &track, &pose).expect("solve");
+        let c = cs.get(Side::Left, Zone::Tread).expect("tread candidate");
+        assert!(!c.in_contact());
+        assert!(
+            patch_centre(&model, &track, &pose, c)
+                .expect("ok")
+                .is_none()
+        );
+    }
+}
