@@ -81,9 +81,25 @@ pub(crate) struct OverlapCentroid {
     pub truncated: bool,
 }
 
-/// ∫ max(z, 0) dℓ and ∫ max(z, 0) ℓ dℓ over the segment between two
-/// samples, z linear in between (the positive part integrated exactly, so
-/// the sums are continuous as the region's ends move between samples).
+/// The weight of the lateral strip at overlap depth z (> 0): the volume
+/// of interpenetration per unit lateral length. Along the rolling
+/// direction the gap grows as A_x x² (A_x the relative rolling curvature,
+/// nearly constant across a patch: the wheel's 1/r), so a strip of depth z
+/// overlaps over |x| < √(z/A_x) and holds ∫(z − A_x x²) dx = (4/3) z^{3/2}/√A_x.
+/// The centroid of the overlap **volume** therefore weights each lateral
+/// position by z^{3/2} (the constant factor cancels). This is the centre
+/// of gravity of the interpenetration over the contact plane (x and y), the
+/// definition CONTACT's reference location uses (its user guide: the
+/// "interpenetration center of gravity", weighted by the gap over the
+/// plane, the integral over x evaluated with a quadratic gap).
+fn strip_weight(z: f64) -> f64 {
+    z.max(0.0).powf(1.5)
+}
+
+/// ∫ w(z) dℓ and ∫ w(z) ℓ dℓ over the segment between two samples, z
+/// linear in between, clipped to the part where z > 0 (so the sums are
+/// continuous as the region's ends move between samples), by Simpson's
+/// rule on the clipped part (w = z^{3/2} is smooth there).
 fn positive_moments(a: OverlapSample, b: OverlapSample) -> (f64, f64) {
     let (a, b) = if a.lateral_m <= b.lateral_m {
         (a, b)
@@ -105,8 +121,10 @@ fn positive_moments(a: OverlapSample, b: OverlapSample) -> (f64, f64) {
         z1 = 0.0;
     }
     let dl = l1 - l0;
-    let area = 0.5 * (z0 + z1) * dl;
-    let moment = dl * (z0 * (2.0 * l0 + l1) + z1 * (l0 + 2.0 * l1)) / 6.0;
+    let (lm, zm) = (0.5 * (l0 + l1), 0.5 * (z0 + z1));
+    let (w0, wm, w1) = (strip_weight(z0), strip_weight(zm), strip_weight(z1));
+    let area = dl / 6.0 * (w0 + 4.0 * wm + w1);
+    let moment = dl / 6.0 * (w0 * l0 + 4.0 * wm * lm + w1 * l1);
     (area, moment)
 }
 
