@@ -104,18 +104,14 @@ fn a22_runs_from_the_shipped_poses_file() {
 /// (docs/guide/contact-benchmark.md): normal force 2 % on every wheel of
 /// every pose; contact point 0.5 mm and contact angle 5 mrad except on the
 /// near-conformal poses listed in `NEAR_CONFORMAL`, where the gap is nearly
-/// flat and CONTACT's reference point (the centroid of the interpenetration)
-/// and our deepest point differ by up to 3 mm (angle 12 mrad); lateral creep
+/// flat over millimetres and the patch centre (ours and CONTACT's, both the
+/// centroid of the interpenetration, ours of one Hertzian approach δ) moves
+/// with small differences in the overlap: 3 mm and 12 mrad there; lateral creep
 /// force F_s within 12 % where it exceeds 10 % of μN, outside those poses.
 #[test]
 fn a22_agrees_with_contact_published_results() {
-    const NEAR_CONFORMAL: [(u32, &str); 5] = [
-        (1, "left"),
-        (1, "right"),
-        (2, "right"),
-        (11, "right"),
-        (13, "right"),
-    ];
+    const NEAR_CONFORMAL: [(u32, &str); 4] =
+        [(1, "left"), (1, "right"), (2, "right"), (3, "right")];
     let ours = a22_rows();
     let text = std::fs::read_to_string(shipped("contact/mbench_a22_contact_reference.csv"))
         .expect("reference");

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 use runtime::forces::creep::CreepLaw;
-use runtime::multibody::loaded_wheelset::LoadConvention;
+use runtime::multibody::loaded_wheelset::{LoadConvention, PatchLocation};
 
 /// Railway vehicle dynamics on pre-processed track tables.
 #[derive(Debug, Parser)]
@@ -172,6 +172,12 @@ pub struct ContactArgs {
     /// normal forces' vertical components alone).
     #[arg(long, value_enum, default_value_t = LoadConventionArg::Vertical)]
     pub load_convention: LoadConventionArg,
+    /// Where each patch is located, its creepages evaluated and its forces
+    /// directed: `centre` (the centroid of the undeformed interpenetration
+    /// volume, as CONTACT reports it) or `deepest` (the point of maximum
+    /// penetration of the contact equations).
+    #[arg(long, value_enum, default_value_t = PatchLocationArg::Centre)]
+    pub patch_location: PatchLocationArg,
     /// Rigid contact instead (both wheels just touching).
     #[arg(long)]
     pub rigid: bool,
@@ -216,6 +222,13 @@ pub struct ContactArgs {
 pub enum LoadConventionArg {
     Vertical,
     Normal,
+}
+
+/// Patch location of `sim contact` (see `--patch-location`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum PatchLocationArg {
+    Centre,
+    Deepest,
 }
 
 /// Output format of `sim contact`.
@@ -476,6 +489,10 @@ impl ContactArgs {
             convention: match self.load_convention {
                 LoadConventionArg::Vertical => LoadConvention::Vertical,
                 LoadConventionArg::Normal => LoadConvention::Normal,
+            },
+            location: match self.patch_location {
+                PatchLocationArg::Centre => PatchLocation::Centre,
+                PatchLocationArg::Deepest => PatchLocation::DeepestPoint,
             },
         })
     }

@@ -666,24 +666,42 @@ fn contact_near_vertical_flange() {
     // 79.5°: just inside the importer's 80° trim angle.
     let steep = dir.join("flank_79.5.csv");
     std::fs::write(&steep, flange_profile_csv(79.5, 0.02)).expect("write");
-    let o = sim_contact(&steep, &["--y-mm", "7.5", "--yaw-mrad", "5"]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let json: Value = serde_json::from_str(&stdout(&o)).expect("JSON");
-    let flange = json["wheels"][0]["contacts"]
-        .as_array()
-        .expect("contacts")
-        .iter()
-        .find(|c| c["zone"] == "flange")
-        .expect("a flange contact at 7.5 mm")
-        .clone();
-    let angle = flange["contact_angle_rad"]
-        .as_f64()
-        .expect("angle")
-        .to_degrees();
-    let normal = flange["normal_n"].as_f64().expect("N");
-    eprintln!("79.5° flank at y = 7.5 mm: contact angle {angle:.2}°, N {normal:.0} N");
-    assert!((angle - 79.5).abs() < 0.3, "{angle}");
-    assert!(normal.is_finite() && normal > 0.0);
+    // The contact search's point (the deepest) lies on the flank, at its
+    // angle; the patch centre (the default of `sim contact`) is the centroid
+    // of the interpenetration, which reaches the flank's root fillet, so its
+    // angle is a little smaller (docs/reference/06-contact-detection.md §6.8).
+    for (location, tolerance_deg) in [("deepest", 0.3), ("centre", 1.0)] {
+        let o = sim_contact(
+            &steep,
+            &[
+                "--y-mm",
+                "7.5",
+                "--yaw-mrad",
+                "5",
+                "--patch-location",
+                location,
+            ],
+        );
+        assert!(o.status.success(), "{}", stderr(&o));
+        let json: Value = serde_json::from_str(&stdout(&o)).expect("JSON");
+        let flange = json["wheels"][0]["contacts"]
+            .as_array()
+            .expect("contacts")
+            .iter()
+            .find(|c| c["zone"] == "flange")
+            .expect("a flange contact at 7.5 mm")
+            .clone();
+        let angle = flange["contact_angle_rad"]
+            .as_f64()
+            .expect("angle")
+            .to_degrees();
+        let normal = flange["normal_n"].as_f64().expect("N");
+        eprintln!(
+            "79.5° flank at y = 7.5 mm ({location}): contact angle {angle:.2}°, N {normal:.0} N"
+        );
+        assert!((angle - 79.5).abs() < tolerance_deg, "{location}: {angle}");
+        assert!(normal.is_finite() && normal > 0.0);
+    }
 
     // A run pushed into that flange: completes, contact at the flank angle.
     let vehicle = vehicle_with_wheel(&dir, "steep", &flange_profile_csv(79.5, 0.02));

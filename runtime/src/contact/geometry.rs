@@ -116,6 +116,15 @@ impl<'a> Pair<'a> {
         }
     }
 
+    /// The wheel's surface point at angle `s_w_rad` about the axle and
+    /// lateral position `u_w_m` on the profile (global, m): `r_w` of the
+    /// module docs, the same expression [`Self::eval`] uses.
+    pub fn wheel_point_m(&self, s_w_rad: f64, u_w_m: f64) -> Vector3<f64> {
+        let f_w = self.wheel_curve.at(self.sigma * u_w_m).z_m - self.wheel.nominal_radius_m();
+        let (ss, cs) = s_w_rad.sin_cos();
+        self.pose.position + self.pose.frame * Vector3::new(-f_w * ss, self.h_m + u_w_m, f_w * cs)
+    }
+
     /// Residual and Jacobian at `x`.
     #[inline]
     pub fn eval(&self, x: &Vector4<f64>) -> Result<PairEval, TrackError> {

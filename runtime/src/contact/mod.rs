@@ -53,6 +53,7 @@ pub mod imported;
 mod model;
 pub mod nadal;
 mod newton;
+pub mod patch_centre;
 mod pose;
 pub mod quasi_static;
 mod search;
@@ -62,6 +63,7 @@ pub mod table;
 pub use candidate::{Candidate, Curvatures, SolveMethod};
 pub use geometry::SurfaceParams;
 pub use model::WheelsetContactModel;
+pub use patch_centre::{PatchCentre, patch_centre};
 pub use pose::WheelsetPose;
 pub use solver::{ContactOptions, ContactSolver, FlangeSearch, SolverStats, WheelsetContacts};
 

@@ -19,6 +19,17 @@
 //! * Roll not given: one height and the roll are solved together so that
 //!   both wheels carry their loads.
 //!
+//! Where a patch is: at the deepest point by default; with
+//! [`PatchLocation::Centre`] (the default of `sim contact`) at its
+//! **centre**, the centroid of the undeformed interpenetration volume
+//! ([`crate::contact::patch_centre`], docs/reference/06-contact-detection.md
+//! §6.8), as CONTACT reports its contact reference location; the normal
+//! force and the Hertz ellipse come from the deepest point (δ and the
+//! curvatures of the gap's minimum, the quadratic expansion Hertz's theory
+//! is built on), the contact frame, position and creepages from the centre.
+//! [`PatchLocation::DeepestPoint`] (the default) keeps everything at the
+//! deepest point.
+//!
 //! Axes: the track frame (`t` forward, `n` lateral pointing left, `b` up;
 //! docs/reference/01-units-frames.md §1); forces are those **on the
 //! wheel**; the contact frame of each patch is the candidate's (normal
@@ -26,7 +37,9 @@
 
 use nalgebra::Vector3;
 
-use crate::contact::{Candidate, ContactError, ContactSolver, WheelsetContactModel, WheelsetPose};
+use crate::contact::{
+    Candidate, ContactError, ContactSolver, WheelsetContactModel, WheelsetPose, patch_centre,
+};
 use crate::forces::hertz::HertzShape;
 use crate::geometry::track::{Side, TrackTables};
 
@@ -69,6 +82,43 @@ impl std::str::FromStr for LoadConvention {
             other => Err(format!(
                 "load convention '{other}' is not vertical or normal"
             )),
+        }
+    }
+}
+
+/// Where each patch's position, contact frame and creepages are taken
+/// (docs/reference/06-contact-detection.md §6.8).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PatchLocation {
+    /// The centroid of the patch's undeformed interpenetration volume
+    /// (where the pressure's resultant lies, and the contact reference
+    /// location CONTACT reports; identical to the deepest point for a
+    /// Hertzian, quadratic gap). The default of `sim contact`.
+    Centre,
+    /// The point of maximum penetration (the solution of the contact
+    /// equations), as the time-stepping runs use it: the library's
+    /// default.
+    #[default]
+    DeepestPoint,
+}
+
+impl PatchLocation {
+    /// `centre` or `deepest`.
+    pub fn name(self) -> &'static str {
+        match self {
+            PatchLocation::Centre => "centre",
+            PatchLocation::DeepestPoint => "deepest",
+        }
+    }
+}
+
+impl std::str::FromStr for PatchLocation {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "centre" | "center" => Ok(Self::Centre),
+            "deepest" => Ok(Self::DeepestPoint),
+            other => Err(format!("patch location '{other}' is not centre or deepest")),
         }
     }
 }
@@ -129,7 +179,23 @@ pub enum LoadedPoseError {
 /// One contact patch with its forces.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LoadedPatch {
+    /// The deepest point: the solution of the contact equations, whose
+    /// penetration δ and curvatures give the normal force and the ellipse.
     pub candidate: Candidate,
+    /// Where the patch is reported and its forces act: position, contact
+    /// frame (the direction of the normal and creep forces), angle,
+    /// rolling radius and creepages. The patch centre with
+    /// [`PatchLocation::Centre`] (its `penetration_m` is the deepest δ),
+    /// a copy of `candidate` with [`PatchLocation::DeepestPoint`].
+    pub centre: Candidate,
+    /// Lateral width of the patch's undeformed interpenetration in the
+    /// rail's cross-section (m); `None` with [`PatchLocation::DeepestPoint`].
+    pub overlap_width_m: Option<f64>,
+    /// The interpenetration reached the sampled window
+    /// ([`crate::contact::patch_centre::WINDOW_HALF_WIDTH_M`]) or a
+    /// profile's end: the part beyond is not in the centre (reported as a
+    /// warning by `sim contact`).
+    pub centre_truncated: bool,
     /// Normal force N = K δ^1.5 (N).
     pub normal_n: f64,
     /// Ellipse, creepages and creep forces; `None` when they could not be
@@ -141,7 +207,7 @@ pub struct LoadedPatch {
     /// [`NonHertzianPolicy::Floor`], the ellipse) comes from the floored
     /// curvatures ([`super::contact_force::NON_HERTZIAN_FLOOR_1_M`]).
     pub hertz_fallback: bool,
-    /// N n_c + Fx t_c + Fy l_c (N, global).
+    /// N n_c + Fx t_c + Fy l_c (N, global), the contact frame of `centre`.
     pub force_on_wheel_n: Vector3<f64>,
 }
 
@@ -166,6 +232,7 @@ pub struct LoadedWheel {
 pub struct LoadedWheelset {
     pub input: PoseInput,
     pub convention: LoadConvention,
+    pub location: PatchLocation,
     /// The roll used (given, or solved) (rad).
     pub roll_rad: f64,
     pub roll_solved: bool,
@@ -221,6 +288,7 @@ struct Context<'a> {
     settings: &'a ContactForceSettings,
     input: &'a PoseInput,
     convention: LoadConvention,
+    location: PatchLocation,
     axle_rate_rad_s: f64,
     forward: Vector3<f64>,
     up: Vector3<f64>,
@@ -270,8 +338,8 @@ impl Context<'_> {
             let mut k_ref = 0.0;
             let mut best = f64::NEG_INFINITY;
             for c in cands {
-                let (patch, k) = self.patch(c, &motion);
-                let cos = c.normal.dot(&self.up).max(1e-3);
+                let (patch, k) = self.patch(c, pose, &motion)?;
+                let cos = patch.centre.normal.dot(&self.up).max(1e-3);
                 let weight = if c.in_contact() {
                     patch.normal_n * cos
                 } else {
@@ -294,7 +362,7 @@ impl Context<'_> {
                 .iter()
                 .map(|p| match self.convention {
                     LoadConvention::Vertical => p.force_on_wheel_n.dot(&self.up),
-                    LoadConvention::Normal => p.normal_n * p.candidate.normal.dot(&self.up),
+                    LoadConvention::Normal => p.normal_n * p.centre.normal.dot(&self.up),
                 })
                 .sum();
             out.push(WheelEval {
@@ -309,9 +377,26 @@ impl Context<'_> {
         Ok([left, right])
     }
 
-    /// A candidate's forces and its Hertz stiffness (N/m^1.5).
-    fn patch(&self, c: &Candidate, motion: &WheelsetMotion) -> (LoadedPatch, f64) {
+    /// A candidate's forces and its Hertz stiffness (N/m^1.5): normal force
+    /// and ellipse from the deepest point `c`, frame and creepages at the
+    /// patch's location (see the module docs).
+    fn patch(
+        &self,
+        c: &Candidate,
+        pose: &WheelsetPose,
+        motion: &WheelsetMotion,
+    ) -> Result<(LoadedPatch, f64), LoadedPoseError> {
         let s = self.settings;
+        let located = match self.location {
+            PatchLocation::Centre if c.in_contact() => {
+                patch_centre(self.model, self.track, pose, c)?
+            }
+            _ => None,
+        };
+        let (centre, overlap_width_m, centre_truncated) = match located {
+            Some(pc) => (pc.candidate, Some(pc.overlap_width_m), pc.truncated),
+            None => (*c, None, false),
+        };
         // The stiffness always exists (floored where the geometry is not
         // Hertzian: the normal force of a conformal patch is then an
         // estimate, flagged); the ellipse and creep forces follow the
@@ -324,27 +409,31 @@ impl Context<'_> {
         let normal_n = k * c.penetration_m.max(0.0).powf(1.5);
         let mut patch = LoadedPatch {
             candidate: *c,
+            centre,
+            overlap_width_m,
+            centre_truncated,
             normal_n,
             tangential: None,
             force_error: None,
             hertz_fallback,
-            force_on_wheel_n: c.normal * normal_n,
+            force_on_wheel_n: centre.normal * normal_n,
         };
         if !c.in_contact() {
-            return (patch, k);
+            return Ok((patch, k));
         }
         let forces = hertz_shape_with_policy(c, s.non_hertzian).and_then(|(shape, _)| {
-            let creepages = contact_creepages(s, c, motion)?;
-            tangential_forces(s, c, &shape, normal_n, &creepages)
+            let creepages = contact_creepages(s, &centre, motion)?;
+            tangential_forces(s, &centre, &shape, normal_n, &creepages)
         });
         match forces {
             Ok(t) => {
-                patch.force_on_wheel_n += c.tangent * t.creep.fx_n + c.lateral * t.creep.fy_n;
+                patch.force_on_wheel_n +=
+                    centre.tangent * t.creep.fx_n + centre.lateral * t.creep.fy_n;
                 patch.tangential = Some(t);
             }
             Err(e) => patch.force_error = Some(e),
         }
-        (patch, k)
+        Ok((patch, k))
     }
 }
 
@@ -406,7 +495,8 @@ fn check(input: &PoseInput) -> Result<(), LoadedPoseError> {
     Ok(())
 }
 
-/// Solve the pose (see the module docs).
+/// Solve the pose (see the module docs), each patch at the default
+/// [`PatchLocation`] (the deepest point).
 pub fn solve_loaded_pose(
     model: &WheelsetContactModel,
     track: &TrackTables,
@@ -414,6 +504,27 @@ pub fn solve_loaded_pose(
     settings: &ContactForceSettings,
     input: &PoseInput,
     convention: LoadConvention,
+) -> Result<LoadedWheelset, LoadedPoseError> {
+    solve_loaded_pose_at(
+        model,
+        track,
+        solver,
+        settings,
+        input,
+        convention,
+        PatchLocation::default(),
+    )
+}
+
+/// Solve the pose with the patches located at `location`.
+pub fn solve_loaded_pose_at(
+    model: &WheelsetContactModel,
+    track: &TrackTables,
+    solver: &mut ContactSolver,
+    settings: &ContactForceSettings,
+    input: &PoseInput,
+    convention: LoadConvention,
+    location: PatchLocation,
 ) -> Result<LoadedWheelset, LoadedPoseError> {
     check(input)?;
     let frame = track
@@ -433,6 +544,7 @@ pub fn solve_loaded_pose(
         settings,
         input,
         convention,
+        location,
         axle_rate_rad_s,
         forward: frame.t.normalize(),
         up: frame.b.normalize(),
@@ -448,6 +560,7 @@ pub fn solve_loaded_pose(
     Ok(LoadedWheelset {
         input: *input,
         convention,
+        location,
         roll_rad,
         roll_solved: input.roll_rad.is_none(),
         axle_rate_rad_s,
@@ -753,5 +866,66 @@ mod tests {
             assert_eq!(c.name().parse::<LoadConvention>(), Ok(c));
         }
         assert!("weight".parse::<LoadConvention>().is_err());
+    }
+
+    use crate::fixtures::wheelsets;
+
+    fn centred(location: PatchLocation) -> LoadedWheelset {
+        let model = wheelsets::s1002_uic60().expect("fixture");
+        let track = wheelsets::straight_track_for(&model, 20.0);
+        let mut solver = wheelsets::flange_solver();
+        let input = PoseInput {
+            s_m: 10.0,
+            y_m: 0.0,
+            yaw_rad: 0.0,
+            roll_rad: Some(0.0),
+            axle_rate_rad_s: None,
+            speed_m_s: 2.0,
+            load_per_wheel_n: [1e4, 1e4],
+        };
+        solve_loaded_pose_at(
+            &model,
+            &track,
+            &mut solver,
+            &ContactForceSettings::default(),
+            &input,
+            LoadConvention::Vertical,
+            location,
+        )
+        .expect("solved")
+    }
+
+    /// The centred S1002/UIC60 wheelset (near-conformal): with `Centre` the
+    /// patch is located, and its forces directed, at the centre of the
+    /// interpenetration, millimetres from the deepest point, with the
+    /// deepest point's δ; `DeepestPoint` (the default) keeps the old location.
+    #[test]
+    fn patches_at_their_centre_on_request() {
+        assert_eq!(PatchLocation::default(), PatchLocation::DeepestPoint);
+        let l = centred(PatchLocation::Centre);
+        assert_eq!(l.location, PatchLocation::Centre);
+        let p = &l.wheels[0].patches[0];
+        let lateral = (p.centre.rail_point - p.candidate.rail_point).norm();
+        assert!(lateral > 5e-4, "centre {lateral} m from the deepest point");
+        assert_eq!(p.centre.penetration_m, p.candidate.penetration_m);
+        assert!(p.overlap_width_m.is_some_and(|w| w > 0.005), "{p:?}");
+        // The normal force acts along the centre's normal.
+        let t = p.tangential.expect("forces");
+        let along =
+            p.force_on_wheel_n - p.centre.tangent * t.creep.fx_n - p.centre.lateral * t.creep.fy_n;
+        assert!((along - p.centre.normal * p.normal_n).norm() < 1e-6 * p.normal_n);
+
+        let old = centred(PatchLocation::DeepestPoint);
+        let q = &old.wheels[0].patches[0];
+        assert_eq!(q.centre, q.candidate);
+        assert!(q.overlap_width_m.is_none());
+    }
+
+    #[test]
+    fn patch_location_names_parse() {
+        for l in [PatchLocation::Centre, PatchLocation::DeepestPoint] {
+            assert_eq!(l.name().parse::<PatchLocation>(), Ok(l));
+        }
+        assert!("middle".parse::<PatchLocation>().is_err());
     }
 }

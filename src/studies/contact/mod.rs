@@ -18,7 +18,9 @@ use runtime::contact::{ContactOptions, ContactSolver, FlangeSearch, WheelsetCont
 use runtime::forces::hertz::Material;
 use runtime::geometry::track::{Side, TrackTables, straight_track};
 use runtime::multibody::contact_force::ContactForceSettings;
-use runtime::multibody::loaded_wheelset::{LoadConvention, PoseInput, solve_loaded_pose};
+use runtime::multibody::loaded_wheelset::{
+    LoadConvention, PatchLocation, PoseInput, solve_loaded_pose_at,
+};
 
 pub use poses::{PoseRow, read_poses};
 pub use report::{ContactCase, ContactReport, ForceModelReport, WheelReport, WheelsetReport};
@@ -33,6 +35,8 @@ pub struct Rolling {
     pub settings: ContactForceSettings,
     /// What the vertical load per wheel balances.
     pub convention: LoadConvention,
+    /// Where each patch is located (its centre or its deepest point).
+    pub location: PatchLocation,
 }
 
 /// One pose to evaluate (SI units; see [`PoseInput`] for the signs).
@@ -155,13 +159,14 @@ impl ContactSetup {
                     speed_m_s,
                     load_per_wheel_n: [load, load],
                 };
-                let loaded = solve_loaded_pose(
+                let loaded = solve_loaded_pose_at(
                     &self.model,
                     &self.track,
                     solver,
                     &rolling.settings,
                     &input,
                     rolling.convention,
+                    rolling.location,
                 )
                 .with_context(context)?;
                 Ok(report::loaded_case(self, request, rolling, &loaded))

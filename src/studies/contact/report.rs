@@ -103,6 +103,10 @@ pub struct ContactReport {
     /// Why the forces are missing, when they are (e.g. non-Hertzian
     /// geometry).
     pub force_error: Option<String>,
+    /// Lateral width of the patch's undeformed interpenetration (m), over
+    /// which its centre is taken (docs/reference/06-contact-detection.md
+    /// §6.8); null for rigid contact.
+    pub overlap_width_m: Option<f64>,
 }
 
 /// One wheel's contacts.
@@ -203,6 +207,7 @@ fn geometry_report(setup: &ContactSetup, patch: u32, c: &Candidate) -> ContactRe
         fy_n: None,
         mz_nm: None,
         force_error: None,
+        overlap_width_m: None,
     }
 }
 
@@ -212,7 +217,10 @@ fn patch_report(
     p: &LoadedPatch,
     up: &nalgebra::Vector3<f64>,
 ) -> ContactReport {
-    let mut r = geometry_report(setup, k as u32 + 1, &p.candidate);
+    // Position, frame and angle where the patch is: its centre (the
+    // penetration reported is the deepest point's δ either way).
+    let mut r = geometry_report(setup, k as u32 + 1, &p.centre);
+    r.overlap_width_m = p.overlap_width_m;
     r.normal_n = p.normal_n;
     r.vertical_n = p.force_on_wheel_n.dot(up);
     r.hertz_fallback = p.hertz_fallback;
@@ -257,7 +265,17 @@ pub(super) fn loaded_case(
                 .enumerate()
                 .map(|(k, p)| patch_report(setup, k, p, &up))
                 .collect();
-            for c in &contacts {
+            for (p, c) in w.patches.iter().zip(&contacts) {
+                if p.centre_truncated {
+                    warnings.push(format!(
+                        "pose {}: {} wheel patch {} ({}): the interpenetration reaches the sampled window (±{:.0} mm) or a profile's end; its part beyond is left out of the patch centre",
+                        request.case,
+                        w.side,
+                        c.patch,
+                        c.zone,
+                        runtime::contact::patch_centre::WINDOW_HALF_WIDTH_M * 1e3
+                    ));
+                }
                 if let Some(e) = &c.force_error {
                     warnings.push(format!(
                         "pose {}: {} wheel patch {} ({}) carries its normal force only: {e}",

@@ -57,6 +57,9 @@ pub struct PatchRow {
     pub wheel_fx_tr_n: f64,
     pub wheel_fy_tr_n: f64,
     pub wheel_fz_tr_n: f64,
+    /// Lateral width of the patch's undeformed interpenetration (mm);
+    /// empty for rigid contact.
+    pub overlap_width_mm: Option<f64>,
 }
 
 /// The rows of some poses, in pose order, left wheel first, deepest patch
@@ -101,6 +104,7 @@ pub fn patch_rows(cases: &[ContactCase]) -> Vec<PatchRow> {
                     wheel_fx_tr_n: wheel.force_track_n[0],
                     wheel_fy_tr_n: wheel.force_track_n[1],
                     wheel_fz_tr_n: wheel.force_track_n[2],
+                    overlap_width_mm: c.overlap_width_m.map(|w| w * 1e3),
                 });
             }
         }
@@ -109,7 +113,7 @@ pub fn patch_rows(cases: &[ContactCase]) -> Vec<PatchRow> {
 }
 
 /// Column names of [`rows_csv`], in order.
-pub const CSV_COLUMNS: [&str; 33] = [
+pub const CSV_COLUMNS: [&str; 34] = [
     "case",
     "side",
     "patch",
@@ -143,6 +147,7 @@ pub const CSV_COLUMNS: [&str; 33] = [
     "wheel_fx_tr_n",
     "wheel_fy_tr_n",
     "wheel_fz_tr_n",
+    "overlap_width_mm",
 ];
 
 /// The rows as CSV with a header (a missing value is an empty field).
@@ -185,6 +190,7 @@ pub fn rows_csv(rows: &[PatchRow]) -> String {
             format!("{}", r.wheel_fx_tr_n),
             format!("{}", r.wheel_fy_tr_n),
             format!("{}", r.wheel_fz_tr_n),
+            opt(r.overlap_width_mm),
         ];
         debug_assert_eq!(fields.len(), names.len());
         out += &fields.join(",");
