@@ -117,10 +117,15 @@
 //!   theory's slip-zone force (a deficit of order √(creepage) relative, 9 %
 //!   of Fx at ξ = 4e-4 on the a/b = 0.5 reference case).
 //!
-//! p̂ is the discrete peak pressure of FASTSIM's ellipsoidal bound (the
-//! pressure sum over the grid is N exactly), in the bound and in ξ̂, η̂, φ̂
-//! alike: full sliding gives |(Fx, Fy)| = μN exactly without spin, and the
-//! linear limit does not carry the grid's pressure error.
+//! Each strip stands for the area of the ellipse between its edges (width
+//! w_i of [`strip_weight_m`] instead of 2b/n_y), so the strips' chords sum
+//! to the ellipse exactly; with the exact zone integrals the linear limit is
+//! then Kalker's to rounding (the plain midpoint sum over 16 strips is
+//! 0.48 % high). The part of an element the zone boundary cuts gets μ p_n
+//! integrated in closed form over that part ([`bound_integrals`]); a whole
+//! element, μ p_n at its midpoint. p̂ makes the pressure summed this way
+//! over the grid N exactly, in the bound and in ξ̂, η̂, φ̂ alike: full
+//! sliding without spin gives |(Fx, Fy)| = μN exactly.
 //!
 //! # Large spin, |φ̂| > 1 (*our reading*)
 //!
@@ -149,9 +154,7 @@
 
 use std::f64::consts::PI;
 
-use super::fastsim::{
-    FastsimParams, Flexibilities, discrete_peak_pressure_pa, element_centre, half_chord,
-};
+use super::fastsim::{FastsimParams, Flexibilities, element_centre, half_chord};
 use super::{CreepError, CreepForces, CreepInput, kalker_coefficients};
 
 /// FaStrip parameters: the discretisation of the ellipse (module docs).
@@ -199,11 +202,6 @@ impl FastripParams {
             }
         }
         Ok(())
-    }
-
-    /// The FASTSIM grid FaStrip marches on (ellipsoidal bound).
-    fn fastsim_grid(&self) -> FastsimParams {
-        FastsimParams::ellipsoidal(self.strips, self.elements_per_strip)
     }
 }
 
@@ -331,16 +329,14 @@ pub(crate) fn forces(input: &CreepInput, p: &FastripParams) -> Result<CreepForce
     let (a, b) = (input.a_m, input.b_m);
     let c = kalker_coefficients(a / b, input.poisson)?;
     let flex = Flexibilities::kalker(a, b, input.shear_modulus_pa, &c);
-    let grid = p.fastsim_grid();
-    let p_hat_pa = discrete_peak_pressure_pa(&grid, input.normal_force_n, a, b);
+    let (ny, nx) = (p.strips, p.elements_per_strip);
+    let p_hat_pa = discrete_peak_pressure_pa(ny, nx, input.normal_force_n, a, b);
     let strip = StripCreepages::new(input, c.c11, c.c22, c.c23, p_hat_pa);
     let rates = Rates {
         xi: xi / flex.l1_m_pa,
         eta: eta / flex.l2_m_pa,
         phi: phi / flex.l3_m_pa,
     };
-    let ny = p.strips;
-    let dy = 2.0 * b / ny as f64;
     let mu_p_over_a = mu * p_hat_pa / a;
     let mut total = CreepForces::ZERO;
     for i in 1..=ny {
@@ -356,7 +352,7 @@ pub(crate) fn forces(input: &CreepInput, p: &FastripParams) -> Result<CreepForce
             mu_p_over_a,
             &rates,
             zone.as_ref(),
-            p.elements_per_strip,
+            nx,
         );
         if let Some(z) = zone.as_ref().filter(|z| z.within_bound) {
             let inside = zone_integrals(z, a_y, mu_p_over_a);
@@ -364,11 +360,42 @@ pub(crate) fn forces(input: &CreepInput, p: &FastripParams) -> Result<CreepForce
             line.py += inside.py;
             line.x_py += inside.x_py;
         }
-        total.fx_n += line.px * dy;
-        total.fy_n += line.py * dy;
-        total.mz_nm += (line.x_py - y * line.px) * dy;
+        let w = strip_weight_m(i, ny, b);
+        total.fx_n += line.px * w;
+        total.fy_n += line.py * w;
+        total.mz_nm += (line.x_py - y * line.px) * w;
     }
     Ok(total)
+}
+
+/// The width (m) strip `i` of `ny` stands for: its chord 2a(y_i) times this
+/// width is the area of the ellipse between its edges,
+/// w_i = b ∫ √(1 − s²) ds / √(1 − s_i²) over s_i ± 1/n_y (module docs,
+/// "The FaStrip traction": the zone integrals are exact along x, and with
+/// w_i instead of 2b/n_y the strips' chords also sum to the ellipse exactly;
+/// the plain midpoint sum is 0.48 % high on 16 strips).
+fn strip_weight_m(i: usize, ny: usize, b_m: f64) -> f64 {
+    let s = element_centre(i, ny);
+    let half = 1.0 / ny as f64;
+    let prim = |u: f64| {
+        let u = u.clamp(-1.0, 1.0);
+        0.5 * (u * (1.0 - u * u).max(0.0).sqrt() + u.asin())
+    };
+    b_m * (prim(s + half) - prim(s - half)) / half_chord(s)
+}
+
+/// Peak pressure p̂ (Pa) that makes the pressure of the FaStrip grid sum to
+/// `n_n` exactly: Σ_i w_i Σ_j p̂ σ(s_i) σ(t_j) (2a_i/n_x) = N, with the strip
+/// widths w_i of [`strip_weight_m`] and the ellipsoidal σ(s) = √(1 − s²).
+fn discrete_peak_pressure_pa(ny: usize, nx: usize, n_n: f64, a_m: f64, b_m: f64) -> f64 {
+    let sum_x: f64 = (1..=nx).map(|j| half_chord(element_centre(j, nx))).sum();
+    let sum_y: f64 = (1..=ny)
+        .map(|i| {
+            let s = half_chord(element_centre(i, ny));
+            strip_weight_m(i, ny, b_m) * s * 2.0 * a_m * s / nx as f64
+        })
+        .sum();
+    n_n / (sum_x * sum_y)
 }
 
 /// Rigid slip over FASTSIM's flexibilities (Pa/m): ξ/L1, η/L2, φ/L3.
@@ -438,19 +465,27 @@ fn march_strip(
         let up = x + 0.5 * h_m;
         let hi = up.min(x_b);
         if hi > lo {
-            // μ p_n along FASTSIM's traction.
+            // μ p_n along FASTSIM's traction: its direction (ux, uy).
             let n2 = px * px + py * py;
-            let (qx, qy) = if n2 > 0.0 {
-                let scale = (g2 / n2).sqrt();
-                (px * scale, py * scale)
+            let (ux, uy) = if n2 > 0.0 {
+                let inv = 1.0 / n2.sqrt();
+                (px * inv, py * inv)
+            } else {
+                (fallback[0], fallback[1])
+            };
+            // ∫ μ p_n dx and ∫ x μ p_n dx over [lo, hi]: the midpoint rule
+            // on a whole element (the grid's pressure normalisation); in
+            // closed form on the part of the element the zone cuts, where
+            // the midpoint of the element would misplace the bound.
+            let (m0, m1) = if hi < up {
+                bound_integrals(lo, hi, a_y_m, mu_p_over_a)
             } else {
                 let g = g2.sqrt();
-                (fallback[0] * g, fallback[1] * g)
+                (h_m * g, h_m * x * g)
             };
-            let len = hi - lo;
-            sums.px += len * qx;
-            sums.py += len * qy;
-            sums.x_py += len * 0.5 * (lo + hi) * qy;
+            sums.px += m0 * ux;
+            sums.py += m0 * uy;
+            sums.x_py += m1 * uy;
         }
         if let Some(z) = clipped_zone {
             let start = lo.max(x_b);
@@ -465,6 +500,26 @@ fn march_strip(
         }
     }
     sums
+}
+
+/// ∫ μ p_n dx and ∫ x μ p_n dx over [lo, hi] ⊂ [−a_y, a_y], with
+/// μ p_n = (μp̂/a) √(a_y² − x²) and μp̂/a = `mu_p_over_a`: closed forms
+/// (antiderivatives ½[x√(a_y² − x²) + a_y² asin(x/a_y)] and
+/// −(a_y² − x²)^{3/2}/3).
+fn bound_integrals(lo: f64, hi: f64, a_y_m: f64, mu_p_over_a: f64) -> (f64, f64) {
+    let a2 = a_y_m * a_y_m;
+    let f0 = |u: f64| {
+        let u = u.clamp(-a_y_m, a_y_m);
+        0.5 * (u * (a2 - u * u).max(0.0).sqrt() + a2 * (u / a_y_m).asin())
+    };
+    let f1 = |u: f64| {
+        let r = (a2 - u * u).max(0.0);
+        -r * r.sqrt() / 3.0
+    };
+    (
+        mu_p_over_a * (f0(hi) - f0(lo)),
+        mu_p_over_a * (f1(hi) - f1(lo)),
+    )
 }
 
 /// (S1) at `x_m` in the zone `z` of a strip of half-length `a_y_m`, limited

@@ -291,7 +291,7 @@ fn continuum_peak_pressure_pa(bound: TractionBound, n_n: f64, a_m: f64, b_m: f64
 ///
 /// Every strip uses the same normalised centres t_j = 1 − (2j − 1)/n_x, so
 /// Σ_i Σ_j σ(s_i) σ(t_j) dx_i dy = (Σ_j σ(t_j)) · Σ_i σ(s_i) (2a_i/n_x) dy.
-pub(super) fn discrete_peak_pressure_pa(p: &FastsimParams, n_n: f64, a_m: f64, b_m: f64) -> f64 {
+fn discrete_peak_pressure_pa(p: &FastsimParams, n_n: f64, a_m: f64, b_m: f64) -> f64 {
     let (nx, ny) = (p.elements_per_strip, p.strips);
     let mut sum_x = 0.0;
     for j in 1..=nx {
