@@ -134,8 +134,8 @@
 //! |φ̂| > 1, near the leading edge) it is limited to the bound element by
 //! element ([`StripAdhesion::within_bound`]). CONTACT's implementation
 //! instead lets every strip slide for |φ'| ≥ 1; for the reference case of
-//! the CONTACT user guide (φ̂ = 1.002) that rule would move Fy/μN by 0.065
-//! (`tests/fastrip_reference.rs`), a jump in force where the exact theory
+//! the CONTACT user guide (φ̂ = 1.002) that rule would move Fy/μN by 0.062
+//! (unit test `sliding_at_unit_spin_would_jump`), a jump in force where the exact theory
 //! is continuous.
 //!
 //! # Limits and known properties
@@ -320,6 +320,17 @@ fn within_bound(e: [f64; 2], g: [f64; 2], d: f64, a_y_m: f64, phi: f64) -> bool 
 /// FaStrip forces on the wheel (module docs). `input` is validated and has
 /// N > 0; `p` is checked here as well (it bounds the loop lengths).
 pub(crate) fn forces(input: &CreepInput, p: &FastripParams) -> Result<CreepForces, CreepError> {
+    forces_with(input, p, false)
+}
+
+/// [`forces`]; with `slide_at_unit_spin`, every strip slides fully when
+/// |φ̂| ≥ 1 (CONTACT's rule, module docs "Large spin"; for the comparison
+/// test only).
+fn forces_with(
+    input: &CreepInput,
+    p: &FastripParams,
+    slide_at_unit_spin: bool,
+) -> Result<CreepForces, CreepError> {
     p.validate()?;
     let mu = input.friction_coefficient;
     let (xi, eta, phi) = (input.xi, input.eta, input.phi_1_m);
@@ -338,34 +349,79 @@ pub(crate) fn forces(input: &CreepInput, p: &FastripParams) -> Result<CreepForce
         phi: phi / flex.l3_m_pa,
     };
     let mu_p_over_a = mu * p_hat_pa / a;
-    let mut total = CreepForces::ZERO;
-    for i in 1..=ny {
+    let setup = |i: usize| {
         let s = element_centre(i, ny);
         let y = s * b;
         let sigma_y = half_chord(s);
         let a_y = a * sigma_y;
-        let zone = strip_adhesion(&strip, y, a_y);
-        let mut line = march_strip(
-            y,
-            a_y,
-            mu * p_hat_pa * sigma_y,
-            mu_p_over_a,
-            &rates,
-            zone.as_ref(),
-            nx,
-        );
-        if let Some(z) = zone.as_ref().filter(|z| z.within_bound) {
-            let inside = zone_integrals(z, a_y, mu_p_over_a);
+        let zone = if slide_at_unit_spin && strip.phi.abs() >= 1.0 {
+            None
+        } else {
+            strip_adhesion(&strip, y, a_y)
+        };
+        StripSetup {
+            y_m: y,
+            a_y_m: a_y,
+            g_peak_pa: mu * p_hat_pa * sigma_y,
+            zone,
+        }
+    };
+    let mut total = CreepForces::ZERO;
+    // Antiderivative of √(1 − s²) at the upper edge of the next strip
+    // (strips come in order, from s = 1 down).
+    let mut upper = prim_half_disc(1.0);
+    let mut add = |i: usize, st: &StripSetup, mut line: LineIntegrals| {
+        if let Some(z) = st.zone.as_ref().filter(|z| z.within_bound) {
+            let inside = zone_integrals(z, st.a_y_m, mu_p_over_a);
             line.px += inside.px;
             line.py += inside.py;
             line.x_py += inside.x_py;
         }
-        let w = strip_weight_m(i, ny, b);
+        let lower = prim_half_disc(element_centre(i, ny) - 1.0 / ny as f64);
+        let w = b * (upper - lower) / half_chord(element_centre(i, ny));
+        upper = lower;
         total.fx_n += line.px * w;
         total.fy_n += line.py * w;
-        total.mz_nm += (line.x_py - y * line.px) * w;
+        total.mz_nm += (line.x_py - st.y_m * line.px) * w;
+    };
+    // Four strips per pass: four independent FASTSIM recurrences in one
+    // loop hide the latency of the slip update (as `fastsim::forces`).
+    let mut i = 1;
+    while i + 3 <= ny {
+        let st = [setup(i), setup(i + 1), setup(i + 2), setup(i + 3)];
+        let lines = march(&st, mu_p_over_a, &rates, nx);
+        for k in 0..4 {
+            add(i + k, &st[k], lines[k]);
+        }
+        i += 4;
+    }
+    while i <= ny {
+        let st = [setup(i)];
+        let [line] = march(&st, mu_p_over_a, &rates, nx);
+        add(i, &st[0], line);
+        i += 1;
     }
     Ok(total)
+}
+
+/// One strip's constants for [`march`].
+#[derive(Debug, Clone, Copy)]
+struct StripSetup {
+    /// Lateral position y (m).
+    y_m: f64,
+    /// Half-length a_y (m).
+    a_y_m: f64,
+    /// μ p̂ σ(y) (Pa): the bound at x = 0.
+    g_peak_pa: f64,
+    /// The strip theory's adhesion zone, if any.
+    zone: Option<StripAdhesion>,
+}
+
+/// ∫ √(1 − u²) du from 0 to `s` (clamped to [−1, 1]):
+/// ½ [s √(1 − s²) + asin s].
+fn prim_half_disc(s: f64) -> f64 {
+    let s = s.clamp(-1.0, 1.0);
+    0.5 * (s * (1.0 - s * s).max(0.0).sqrt() + s.asin())
 }
 
 /// The width (m) strip `i` of `ny` stands for: its chord 2a(y_i) times this
@@ -373,29 +429,49 @@ pub(crate) fn forces(input: &CreepInput, p: &FastripParams) -> Result<CreepForce
 /// w_i = b ∫ √(1 − s²) ds / √(1 − s_i²) over s_i ± 1/n_y (module docs,
 /// "The FaStrip traction": the zone integrals are exact along x, and with
 /// w_i instead of 2b/n_y the strips' chords also sum to the ellipse exactly;
-/// the plain midpoint sum is 0.48 % high on 16 strips).
+/// the plain midpoint sum is 0.48 % high on 16 strips). [`forces`] computes
+/// the same sum strip by strip, sharing the edges.
+#[cfg(test)]
 fn strip_weight_m(i: usize, ny: usize, b_m: f64) -> f64 {
     let s = element_centre(i, ny);
     let half = 1.0 / ny as f64;
-    let prim = |u: f64| {
-        let u = u.clamp(-1.0, 1.0);
-        0.5 * (u * (1.0 - u * u).max(0.0).sqrt() + u.asin())
-    };
-    b_m * (prim(s + half) - prim(s - half)) / half_chord(s)
+    b_m * (prim_half_disc(s + half) - prim_half_disc(s - half)) / half_chord(s)
+}
+
+/// The grid constant K(n_y, n_x) = Σ_j σ(t_j) · Σ_i σ(s_i) ∫ σ over strip i
+/// (σ(u) = √(1 − u²)): the pressure p̂ σ(s_i) σ(t_j) summed over the grid,
+/// each strip i standing for the width w_i = b ∫σ/σ(s_i) and each element
+/// for 2a σ(s_i)/n_x, is p̂ · 2ab K/n_x. Depends on the grid only, so the
+/// last grid's value is kept (per thread).
+fn grid_constant(ny: usize, nx: usize) -> f64 {
+    thread_local! {
+        static LAST: std::cell::Cell<(usize, usize, f64)> =
+            const { std::cell::Cell::new((0, 0, 0.0)) };
+    }
+    LAST.with(|last| {
+        let (cy, cx, k) = last.get();
+        if (cy, cx) == (ny, nx) {
+            return k;
+        }
+        let sum_x: f64 = (1..=nx).map(|j| half_chord(element_centre(j, nx))).sum();
+        let mut upper = prim_half_disc(1.0);
+        let mut sum_y = 0.0;
+        for i in 1..=ny {
+            let s = element_centre(i, ny);
+            let lower = prim_half_disc(s - 1.0 / ny as f64);
+            sum_y += half_chord(s) * (upper - lower);
+            upper = lower;
+        }
+        let k = sum_x * sum_y;
+        last.set((ny, nx, k));
+        k
+    })
 }
 
 /// Peak pressure p̂ (Pa) that makes the pressure of the FaStrip grid sum to
-/// `n_n` exactly: Σ_i w_i Σ_j p̂ σ(s_i) σ(t_j) (2a_i/n_x) = N, with the strip
-/// widths w_i of [`strip_weight_m`] and the ellipsoidal σ(s) = √(1 − s²).
+/// `n_n` exactly (see [`grid_constant`]).
 fn discrete_peak_pressure_pa(ny: usize, nx: usize, n_n: f64, a_m: f64, b_m: f64) -> f64 {
-    let sum_x: f64 = (1..=nx).map(|j| half_chord(element_centre(j, nx))).sum();
-    let sum_y: f64 = (1..=ny)
-        .map(|i| {
-            let s = half_chord(element_centre(i, ny));
-            strip_weight_m(i, ny, b_m) * s * 2.0 * a_m * s / nx as f64
-        })
-        .sum();
-    n_n / (sum_x * sum_y)
+    n_n * nx as f64 / (2.0 * a_m * b_m * grid_constant(ny, nx))
 }
 
 /// Rigid slip over FASTSIM's flexibilities (Pa/m): ξ/L1, η/L2, φ/L3.
@@ -414,92 +490,105 @@ pub(crate) struct LineIntegrals {
     pub(crate) x_py: f64,
 }
 
-/// One strip at `y_m` with half-length `a_y_m` (module docs, "The FaStrip
-/// traction"), integrated element by element (midpoint rule):
+/// `K` independent strips `st` (module docs, "The FaStrip traction"),
+/// integrated element by element (midpoint rule):
 ///
-/// - behind the adhesion zone `zone` (the whole strip when there is none):
-///   μ p_n along the traction of FASTSIM (ellipsoidal bound, peak
-///   `g_peak_pa` = μ p̂ σ(y)) marched from the leading edge over the whole
-///   strip (along the zone's e where FASTSIM's traction is zero);
+/// - behind the adhesion zone (the whole strip when there is none): μ p_n
+///   along the traction of FASTSIM (ellipsoidal bound) marched from the
+///   leading edge over the whole strip (along the zone's e where FASTSIM's
+///   traction is zero);
 /// - inside a zone whose (S1) can exceed the bound (`within_bound` false):
 ///   (S1) with μp̂/a = `mu_p_over_a`, limited to μ p_n. A zone within the
 ///   bound is left to [`zone_integrals`] (closed forms).
-fn march_strip(
-    y_m: f64,
-    a_y_m: f64,
-    g_peak_pa: f64,
+fn march<const K: usize>(
+    st: &[StripSetup; K],
     mu_p_over_a: f64,
     rates: &Rates,
-    zone: Option<&StripAdhesion>,
     nx: usize,
-) -> LineIntegrals {
+) -> [LineIntegrals; K] {
     let dt = 2.0 / nx as f64;
-    let h_m = dt * a_y_m;
-    let rate_x = rates.xi - rates.phi * y_m;
-    let g2_peak = g_peak_pa * g_peak_pa;
+    let h = st.map(|s| dt * s.a_y_m);
+    let rate_x = st.map(|s| rates.xi - rates.phi * s.y_m);
+    let g2_peak = st.map(|s| s.g_peak_pa * s.g_peak_pa);
     // Trailing end of the adhesion zone (+∞: no zone, the strip slides).
-    let x_b = zone.map_or(f64::INFINITY, |z| 2.0 * z.centre_m - a_y_m);
-    let fallback = zone.map_or([0.0, 0.0], |z| z.e);
-    let clipped_zone = zone.filter(|z| !z.within_bound);
-    let (mut px, mut py) = (0.0_f64, 0.0_f64);
-    let mut sums = LineIntegrals::default();
+    let x_b = st.map(|s| s.zone.map_or(f64::INFINITY, |z| 2.0 * z.centre_m - s.a_y_m));
+    let mut px = [0.0_f64; K];
+    let mut py = [0.0_f64; K];
+    let mut sums = [LineIntegrals::default(); K];
     let mut t_prev = 1.0;
     for j in 1..=nx {
-        // FASTSIM step (as in `fastsim::march`, ellipsoidal bound).
         let t = 1.0 - (j as f64 - 0.5) * dt;
         let t_mid = 0.5 * (t_prev + t);
-        let step = (t_prev - t) * a_y_m;
-        px -= step * rate_x;
-        py -= step * (rates.eta + rates.phi * t_mid * a_y_m);
-        let g2 = g2_peak * (1.0 - t * t).max(0.0);
-        let norm2 = px * px + py * py;
-        if norm2 > g2 {
-            let scale = (g2 / norm2).sqrt();
-            px *= scale;
-            py *= scale;
-        }
+        let dt_step = t_prev - t;
+        let q = (1.0 - t * t).max(0.0);
         t_prev = t;
-        // The element [lo, up]; its part behind the zone, [lo, min(up, x_b)].
-        let x = t * a_y_m;
-        let lo = x - 0.5 * h_m;
-        let up = x + 0.5 * h_m;
-        let hi = up.min(x_b);
-        if hi > lo {
-            // μ p_n along FASTSIM's traction: its direction (ux, uy).
-            let n2 = px * px + py * py;
-            let (ux, uy) = if n2 > 0.0 {
-                let inv = 1.0 / n2.sqrt();
-                (px * inv, py * inv)
-            } else {
-                (fallback[0], fallback[1])
-            };
-            // ∫ μ p_n dx and ∫ x μ p_n dx over [lo, hi]: the midpoint rule
-            // on a whole element (the grid's pressure normalisation); in
-            // closed form on the part of the element the zone cuts, where
-            // the midpoint of the element would misplace the bound.
-            let (m0, m1) = if hi < up {
-                bound_integrals(lo, hi, a_y_m, mu_p_over_a)
-            } else {
-                let g = g2.sqrt();
-                (h_m * g, h_m * x * g)
-            };
-            sums.px += m0 * ux;
-            sums.py += m0 * uy;
-            sums.x_py += m1 * uy;
-        }
-        if let Some(z) = clipped_zone {
-            let start = lo.max(x_b);
-            if up > start {
-                let xm = 0.5 * (start + up);
-                let (qx, qy) = clipped_strip_traction(z, xm, a_y_m, mu_p_over_a);
-                let len = up - start;
-                sums.px += len * qx;
-                sums.py += len * qy;
-                sums.x_py += len * xm * qy;
+        for k in 0..K {
+            let a_y = st[k].a_y_m;
+            // FASTSIM step (as in `fastsim::march`, ellipsoidal bound).
+            let step = dt_step * a_y;
+            px[k] -= step * rate_x[k];
+            py[k] -= step * (rates.eta + rates.phi * t_mid * a_y);
+            let g2 = g2_peak[k] * q;
+            let norm2 = px[k] * px[k] + py[k] * py[k];
+            let sliding = norm2 > g2;
+            if sliding {
+                let scale = (g2 / norm2).sqrt();
+                px[k] *= scale;
+                py[k] *= scale;
+            }
+            // The element [lo, up]; its part behind the zone, [lo, min(up, x_b)].
+            let x = t * a_y;
+            let lo = x - 0.5 * h[k];
+            let up = x + 0.5 * h[k];
+            if up <= x_b[k] {
+                // A whole element behind the zone: μ p_n at its midpoint
+                // (the grid's pressure normalisation) along FASTSIM.
+                let (qx, qy) = if sliding {
+                    (px[k], py[k])
+                } else {
+                    along(px[k], py[k], g2, st[k].zone)
+                };
+                sums[k].px += h[k] * qx;
+                sums[k].py += h[k] * qy;
+                sums[k].x_py += h[k] * x * qy;
+            } else if lo < x_b[k] {
+                // The element the zone boundary cuts: ∫ μ p_n over its part
+                // behind the zone in closed form (its midpoint would
+                // misplace the bound), along FASTSIM.
+                let (ux, uy) = along(px[k], py[k], 1.0, st[k].zone);
+                let (m0, m1) = bound_integrals(lo, x_b[k], a_y, mu_p_over_a);
+                sums[k].px += m0 * ux;
+                sums[k].py += m0 * uy;
+                sums[k].x_py += m1 * uy;
+            }
+            if let Some(z) = st[k].zone.filter(|z| !z.within_bound) {
+                let start = lo.max(x_b[k]);
+                if up > start {
+                    let xm = 0.5 * (start + up);
+                    let (qx, qy) = clipped_strip_traction(&z, xm, a_y, mu_p_over_a);
+                    let len = up - start;
+                    sums[k].px += len * qx;
+                    sums[k].py += len * qy;
+                    sums[k].x_py += len * xm * qy;
+                }
             }
         }
     }
     sums
+}
+
+/// The vector of length √`g2` along (px, py), or along the zone's e where
+/// (px, py) = 0 (zero without a zone).
+fn along(px: f64, py: f64, g2: f64, zone: Option<StripAdhesion>) -> (f64, f64) {
+    let n2 = px * px + py * py;
+    if n2 > 0.0 {
+        let scale = (g2 / n2).sqrt();
+        (px * scale, py * scale)
+    } else {
+        let e = zone.map_or([0.0, 0.0], |z| z.e);
+        let g = g2.sqrt();
+        (e[0] * g, e[1] * g)
+    }
 }
 
 /// ∫ μ p_n dx and ∫ x μ p_n dx over [lo, hi] ⊂ [−a_y, a_y], with
@@ -769,6 +858,57 @@ mod tests {
             forces(&input(0.0, 0.0, 0.0), &p).unwrap(),
             CreepForces::ZERO
         );
+    }
+
+    /// The CONTACT user guide's spin case (`examples/fastsim.inp`, φ̂ = 1.002
+    /// with our C23): letting every strip slide at |φ̂| ≥ 1 (CONTACT's rule)
+    /// moves Fy/μN by more than 0.05 (measured 0.062) from our continued
+    /// root, which is within 0.01 of the exact −0.6074 (module docs, "Large
+    /// spin"; `tests/fastrip_reference.rs`).
+    #[test]
+    fn sliding_at_unit_spin_would_jump() {
+        let i = CreepInput {
+            xi: 0.0,
+            eta: -6.25e-4,
+            phi_1_m: 0.625,
+            normal_force_n: 82e3,
+            a_m: 8e-3,
+            b_m: 4e-3,
+            friction_coefficient: 0.3,
+            rolling_speed_m_s: 30.0,
+            shear_modulus_pa: 82e9,
+            poisson: 0.28,
+        };
+        let mun = 0.3 * 82e3;
+        let p = FastripParams::default();
+        let ours = forces_with(&i, &p, false).unwrap().fy_n / mun;
+        let slide = forces_with(&i, &p, true).unwrap().fy_n / mun;
+        eprintln!("Fy/μN continued {ours:.4}, sliding at |φ̂| ≥ 1 {slide:.4}");
+        assert!((ours - slide).abs() > 0.05, "{ours} {slide}");
+        assert!((ours + 0.6074).abs() < 0.01, "{ours}");
+    }
+
+    /// The strip widths stand for the ellipse's area exactly, and p̂ makes
+    /// the grid's pressure sum N exactly (against a direct sum).
+    #[test]
+    fn strip_widths_and_pressure_normalisation() {
+        let (a, b) = (7e-3, 5e-3);
+        for (ny, nx) in [(1, 1), (5, 7), (16, 64), (17, 3)] {
+            let area: f64 = (1..=ny)
+                .map(|i| 2.0 * a * half_chord(element_centre(i, ny)) * strip_weight_m(i, ny, b))
+                .sum();
+            assert!((area / (PI * a * b) - 1.0).abs() < 1e-13, "{ny}: {area}");
+            let p_hat = discrete_peak_pressure_pa(ny, nx, 1e5, a, b);
+            let mut n = 0.0;
+            for i in 1..=ny {
+                let sy = half_chord(element_centre(i, ny));
+                for j in 1..=nx {
+                    let sx = half_chord(element_centre(j, nx));
+                    n += p_hat * sy * sx * (2.0 * a * sy / nx as f64) * strip_weight_m(i, ny, b);
+                }
+            }
+            assert!((n / 1e5 - 1.0).abs() < 1e-13, "{ny}x{nx}: {n}");
+        }
     }
 
     /// φ̂ is the linear theory's spin force over μN (module docs).
