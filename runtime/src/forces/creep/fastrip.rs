@@ -113,9 +113,10 @@
 //!   (the strip theory's e is constant). Without spin FASTSIM's direction
 //!   is e, and FaStrip is the Kalker-scaled strip theory itself. CONTACT's
 //!   implementation keeps FASTSIM's whole traction there instead (below the
-//!   bound where FASTSIM adheres): at small creepage that loses the strip
-//!   theory's slip-zone force (a deficit of order √(creepage) relative, 9 %
-//!   of Fx at ξ = 4e-4 on the a/b = 0.5 reference case).
+//!   bound where FASTSIM adheres): at small and moderate creepage FASTSIM's
+//!   slip zone is much shorter than the strip theory's (second against
+//!   first order in the creepage), so that loses part of the slip zone's
+//!   force.
 //!
 //! Each strip stands for the area of the ellipse between its edges (width
 //! w_i of [`strip_weight_m`] instead of 2b/n_y), so the strips' chords sum
