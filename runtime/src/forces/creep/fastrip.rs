@@ -119,9 +119,9 @@
 //!   force.
 //!
 //! Each strip stands for the area of the ellipse between its edges (width
-//! w_i of [`strip_weight_m`] instead of 2b/n_y), so the strips' chords sum
-//! to the ellipse exactly; with the exact zone integrals the linear limit is
-//! then Kalker's to rounding (the plain midpoint sum over 16 strips is
+//! w_i = b ∫ √(1 − s²) ds / √(1 − s_i²) over the strip instead of 2b/n_y),
+//! so the strips' chords sum to the ellipse exactly; with the exact zone
+//! integrals the linear limit is then Kalker's to rounding (the plain midpoint sum over 16 strips is
 //! 0.48 % high). The part of an element the zone boundary cuts gets μ p_n
 //! integrated in closed form over that part ([`bound_integrals`]); a whole
 //! element, μ p_n at its midpoint. p̂ makes the pressure summed this way
@@ -280,12 +280,12 @@ pub(crate) fn strip_adhesion(s: &StripCreepages, y_m: f64, a_y_m: f64) -> Option
             return None;
         }
         let den = disc.sqrt() - eta * phi;
-        if !(den > 0.0) {
+        if den.is_nan() || den <= 0.0 {
             return None;
         }
         num / den
     };
-    if !(d < a_y_m) {
+    if d.is_nan() || d >= a_y_m {
         return None;
     }
     let e = if d > 0.0 {
