@@ -1020,6 +1020,42 @@ mod tests {
         );
     }
 
+    /// `creep_law = "fastrip"` gives FaStrip with its default grid, or the
+    /// scene's `fastrip_strips` × `fastrip_elements`; a grid outside
+    /// 1 … 2000 is refused, naming the law and the parameter.
+    #[test]
+    fn fastrip_and_its_grid() {
+        let s = LoadedScene::default_scene(&["contact.creep_law=fastrip".into()]).unwrap();
+        assert_eq!(
+            s.scene.creep_law().unwrap(),
+            CreepLaw::Fastrip(FastripParams::default())
+        );
+        let s = LoadedScene::default_scene(&[
+            "contact.creep_law=fastrip".into(),
+            "contact.fastrip_strips=8".into(),
+            "contact.fastrip_elements=32".into(),
+        ])
+        .unwrap();
+        assert_eq!(
+            s.scene.creep_law().unwrap(),
+            CreepLaw::Fastrip(FastripParams {
+                strips: 8,
+                elements_per_strip: 32
+            })
+        );
+        let e = LoadedScene::default_scene(&[
+            "contact.creep_law=fastrip".into(),
+            "contact.fastrip_strips=0".into(),
+        ])
+        .err()
+        .expect("refused");
+        let text = format!("{e:#}");
+        assert!(
+            text.contains("FaStrip") && text.contains("strips"),
+            "{text}"
+        );
+    }
+
     #[test]
     fn overrides_set_values_and_are_recorded() {
         let s = LoadedScene::default_scene(&[
