@@ -6,7 +6,7 @@
 # Runs `sim tradeoff --json` on the shipped bogie scene
 # (tables/scenes/bogie_straight.toml, its speed, offset and length) with
 # the creep law set to Polach and the variants "creep kalker",
-# "creep heuristic", "creep fastsim" and "contact table" (each the
+# "creep heuristic", "creep fastsim", "creep fastrip" and "contact table" (each the
 # reference — table step 0.01 m, online contact, flange always searched,
 # RK4 at 0.1 ms — with that one change):
 #
@@ -77,7 +77,7 @@ MACHINE="$(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | s
 # The scene as every study sees it: Polach (the cost reference) and, with
 # --quick, the shorter run.
 COMMON=(--quick --set 'contact.creep_law="polach"' "${DISTANCE_SET[@]}")
-LAWS=(kalker heuristic fastsim)
+LAWS=(kalker heuristic fastsim fastrip)
 TABLE=('--variant' 'contact table:contact.method="table"')
 
 study() { # $1 = name, $2 = repeats, rest = extra arguments
@@ -130,7 +130,7 @@ ref = variant(straight, "reference")
 if ref["status"] != "ok" or not ref["wall_time_median_s"]:
     sys.exit(f"the reference run failed: {ref['error']}")
 laws = [("polach", 1.0, ref["wall_time_median_s"])]
-for law in ("kalker", "heuristic", "fastsim"):
+for law in ("kalker", "heuristic", "fastsim", "fastrip"):
     v = variant(straight, f"creep {law}")
     if v["status"] != "ok" or not v["wall_time_median_s"]:
         sys.exit(f"creep {law} failed: {v['error']}")
@@ -218,7 +218,7 @@ for kind, err, source in errors:
 text = "\n".join(lines)
 # The planner's checks (measured.rs tests): every law and kind, in order.
 parsed = tomllib.loads(text)
-assert [l["law"] for l in parsed["creep_law_cost"]["laws"]] == ["polach", "kalker", "heuristic", "fastsim"]
+assert [l["law"] for l in parsed["creep_law_cost"]["laws"]] == ["polach", "kalker", "heuristic", "fastsim", "fastrip"]
 assert sorted(e["track"] for e in parsed["table_contact_error"]) == ["curve", "irregular", "straight"]
 with open(out, "w") as f:
     f.write(text)

@@ -46,7 +46,7 @@ fn f(v: &serde_json::Value, key: &str) -> f64 {
 /// law stays within μN; Kalker linear is G a b c22 |η|-sized.
 #[test]
 fn sim_contact_reports_creepages_and_creep_forces() {
-    for creep in ["kalker", "heuristic", "polach", "fastsim"] {
+    for creep in ["kalker", "heuristic", "polach", "fastsim", "fastrip"] {
         let o = run(sim().args(contact_args("0", "2", creep)));
         assert!(o.status.success(), "{creep}: {}", stderr(&o));
         let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("JSON");
@@ -123,9 +123,10 @@ fn sim_contact_rejects_bad_force_settings() {
     assert!(stderr(&o).contains("coulomb"), "{}", stderr(&o));
 }
 
-/// `sim creep-curves`: both files, five blocks; the saturating laws never
-/// exceed 1 (F/μN), reach ≥ 0.98 at the end of the ξ and η sweeps, and all
-/// four laws share Kalker's initial slope (first step, 2 %).
+/// `sim creep-curves`: both files, five blocks; the saturating laws
+/// (heuristic, Polach, FASTSIM, FaStrip) never exceed 1 (F/μN), reach ≥ 0.98
+/// at the end of the ξ and η sweeps, and all five laws share Kalker's
+/// initial slope (first step, 2 %).
 #[test]
 fn sim_creep_curves_writes_png_and_csv() {
     let dir = scratch("creep_curves");
@@ -164,16 +165,16 @@ fn sim_creep_curves_writes_png_and_csv() {
     for name in ["xi", "eta"] {
         let b = block(name);
         for r in &b {
-            for law in 2..=4 {
+            for law in 2..=5 {
                 assert!(r[law] <= 1.0 + 1e-9, "{name}: {r:?}");
             }
         }
         let last = &b[100];
-        for law in 2..=4 {
+        for law in 2..=5 {
             assert!(last[law] >= 0.98, "{name} end: {last:?}");
         }
         let first = &b[1];
-        for law in 2..=4 {
+        for law in 2..=5 {
             assert!(
                 (first[law] / first[1] - 1.0).abs() < 0.02,
                 "{name} slope: {first:?}"

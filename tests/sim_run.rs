@@ -122,6 +122,35 @@ fn wheelset_hunts_with_the_klingel_wavelength_at_10_m_s() {
     assert!(r.scene_toml.contains("overrides: run.distance_m=80"));
 }
 
+/// `sim run` with `creep_law = "fastrip"` (FaStrip): the run records the
+/// law, and the unsuspended wheelset hunts with Klingel's wavelength within
+/// 3 % as with Polach (the kinematic wavelength does not depend on the creep
+/// law).
+#[test]
+fn wheelset_hunts_with_fastrip() {
+    let dir = scratch("run_wheelset_fastrip");
+    let out = dir.join("ws_fastrip.h5");
+    run_sim(
+        &dir,
+        &[
+            &scene("wheelset_straight.toml"),
+            "-o",
+            out.to_str().unwrap(),
+            "--set",
+            "run.distance_m=50",
+            "--set",
+            "contact.creep_law=fastrip",
+        ],
+    );
+    let r = read_results(&out).expect("results file");
+    assert_eq!(r.attribute("creep_law"), Some("fastrip"));
+    let l = wavelength_m(&r);
+    assert!(
+        (l / KLINGEL_M - 1.0).abs() < 0.03,
+        "wavelength {l:.3} m vs Klingel {KLINGEL_M:.3} m"
+    );
+}
+
 /// At 2 m/s the creep forces damp the motion just enough that the amplitude
 /// stays constant (paper §5: "the critical speed of the unsuspended
 /// wheelset is close to 2 m/s").

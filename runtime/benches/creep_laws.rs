@@ -3,14 +3,15 @@
 //! wheel of r = 0.46 m on a 0.3 m rail head — G = 80.8 GPa, ν = 0.3,
 //! μ = 0.3, V = 30 m/s) at moderate combined creepages (ξ = 1e-3,
 //! η = −1.5e-3, φ = 0.2 1/m, partly saturated); plus the Kalker
-//! coefficients alone, the Hertz shape they need, and FASTSIM at three
-//! discretisations (its default included).
+//! coefficients alone, the Hertz shape they need, FASTSIM at three
+//! discretisations (its default included, and with the ellipsoidal bound)
+//! and FaStrip on FASTSIM's default grid.
 
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use runtime::forces::creep::{
-    CreepInput, CreepLaw, FastsimParams, PolachParams, kalker_coefficients,
+    CreepInput, CreepLaw, FastripParams, FastsimParams, PolachParams, kalker_coefficients,
 };
 use runtime::forces::hertz::HertzShape;
 
@@ -55,6 +56,24 @@ fn bench(c: &mut Criterion) {
                 fastsim_default.strips, fastsim_default.elements_per_strip
             ),
             CreepLaw::Fastsim(fastsim_default),
+        ),
+        (
+            format!(
+                "creep_fastsim_ellipsoidal_{}x{}",
+                fastsim_default.strips, fastsim_default.elements_per_strip
+            ),
+            CreepLaw::Fastsim(FastsimParams::ellipsoidal(
+                fastsim_default.strips,
+                fastsim_default.elements_per_strip,
+            )),
+        ),
+        (
+            format!(
+                "creep_fastrip_default_{}x{}",
+                FastripParams::default().strips,
+                FastripParams::default().elements_per_strip
+            ),
+            CreepLaw::Fastrip(FastripParams::default()),
         ),
         (
             "creep_fastsim_10x10".to_string(),

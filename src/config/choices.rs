@@ -98,6 +98,9 @@ choice! {
         Polach = "polach",
         /// Kalker's FASTSIM (discretisation: `fastsim_strips`, `fastsim_elements`).
         Fastsim = "fastsim",
+        /// FaStrip, strip theory + FASTSIM (discretisation: `fastrip_strips`,
+        /// `fastrip_elements`).
+        Fastrip = "fastrip",
         /// No creep forces.
         None = "none",
     }
@@ -193,6 +196,8 @@ mod tests {
         }
         let t: T = toml::from_str("law = \"fastsim\"").unwrap();
         assert_eq!(t.law, CreepLawName::Fastsim);
+        let t: T = toml::from_str("law = \"fastrip\"").unwrap();
+        assert_eq!(t.law, CreepLawName::Fastrip);
         let e = toml::from_str::<T>("law = \"polak\"")
             .err()
             .unwrap()

@@ -29,7 +29,7 @@
 //! #                         # track-preproc import-contact-table, or the RSGEO .dat itself
 //! # shear_modulus_pa = 1.4384e11  # imported only: G of the creep forces instead of E/(2(1+ν))
 //! flange = "auto"           # off | on | auto
-//! creep_law = "polach"      # kalker | heuristic | polach | fastsim | none
+//! creep_law = "polach"      # kalker | heuristic | polach | fastsim | fastrip | none
 //! friction = 0.3
 //! restitution = 0.9
 //! # non_hertzian = "stop"   # stop | floor: where Hertz does not apply (conformal contact)
@@ -72,7 +72,7 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail, ensure};
-use runtime::forces::creep::{CreepLaw, FastsimParams, PolachParams};
+use runtime::forces::creep::{CreepLaw, FastripParams, FastsimParams, PolachParams};
 use runtime::integrators::{Dopri5, Method, Rk4};
 use runtime::multibody::track_motion::SpeedRamp;
 use runtime::multibody::{DynamicsError, SystemSettings};
@@ -211,7 +211,7 @@ pub struct ContactSection {
     /// Flange search: `off`, `on` or `auto`.
     #[serde(default = "default_flange")]
     pub flange: FlangeMode,
-    /// `kalker`, `heuristic`, `polach`, `fastsim` or `none`.
+    /// `kalker`, `heuristic`, `polach`, `fastsim`, `fastrip` or `none`.
     #[serde(default = "default_creep")]
     pub creep_law: CreepLawName,
     /// Polach parameter set: `1999`, `dry-2005`, `wet-2005`.
@@ -222,6 +222,11 @@ pub struct ContactSection {
     pub fastsim_strips: Option<usize>,
     #[serde(default)]
     pub fastsim_elements: Option<usize>,
+    /// FaStrip discretisation (strips × elements per strip).
+    #[serde(default)]
+    pub fastrip_strips: Option<usize>,
+    #[serde(default)]
+    pub fastrip_elements: Option<usize>,
     /// Coefficient of friction (for Polach with slip-velocity dependent
     /// friction, μ0).
     #[serde(default = "default_friction")]
@@ -937,6 +942,16 @@ impl Scene {
                 }
                 CreepLaw::Fastsim(p)
             }
+            CreepLawName::Fastrip => {
+                let mut p = FastripParams::default();
+                if let Some(k) = c.fastrip_strips {
+                    p.strips = k;
+                }
+                if let Some(k) = c.fastrip_elements {
+                    p.elements_per_strip = k;
+                }
+                CreepLaw::Fastrip(p)
+            }
             CreepLawName::Kalker => CreepLaw::KalkerLinear,
             CreepLawName::Heuristic => CreepLaw::Heuristic,
             CreepLawName::None => CreepLaw::None,
@@ -1002,6 +1017,42 @@ mod tests {
             s.path(&s.scene.vehicle.file).exists(),
             "{:?}",
             s.scene.vehicle.file
+        );
+    }
+
+    /// `creep_law = "fastrip"` gives FaStrip with its default grid, or the
+    /// scene's `fastrip_strips` × `fastrip_elements`; a grid outside
+    /// 1 … 2000 is refused, naming the law and the parameter.
+    #[test]
+    fn fastrip_and_its_grid() {
+        let s = LoadedScene::default_scene(&["contact.creep_law=fastrip".into()]).unwrap();
+        assert_eq!(
+            s.scene.creep_law().unwrap(),
+            CreepLaw::Fastrip(FastripParams::default())
+        );
+        let s = LoadedScene::default_scene(&[
+            "contact.creep_law=fastrip".into(),
+            "contact.fastrip_strips=8".into(),
+            "contact.fastrip_elements=32".into(),
+        ])
+        .unwrap();
+        assert_eq!(
+            s.scene.creep_law().unwrap(),
+            CreepLaw::Fastrip(FastripParams {
+                strips: 8,
+                elements_per_strip: 32
+            })
+        );
+        let e = LoadedScene::default_scene(&[
+            "contact.creep_law=fastrip".into(),
+            "contact.fastrip_strips=0".into(),
+        ])
+        .err()
+        .expect("refused");
+        let text = format!("{e:#}");
+        assert!(
+            text.contains("FaStrip") && text.contains("strips"),
+            "{text}"
         );
     }
 

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, bail};
 use preproc::plot::{LineChart, Series, write_multi_panel};
 use runtime::forces::creep::{
-    CreepInput, CreepLaw, FastsimParams, PolachParams, kalker_coefficients,
+    CreepInput, CreepLaw, FastripParams, FastsimParams, PolachParams, kalker_coefficients,
 };
 use runtime::forces::hertz::{HertzContact, Material};
 
@@ -33,7 +33,7 @@ pub struct CreepCurveConfig {
     pub max_creepage: Option<f64>,
     /// Points per curve.
     pub points: usize,
-    /// FASTSIM discretisation.
+    /// FASTSIM discretisation; FaStrip's curves use the same grid.
     pub fastsim: FastsimParams,
 }
 
@@ -126,6 +126,16 @@ fn laws(config: &CreepCurveConfig) -> Vec<(String, CreepLaw)> {
                 config.fastsim.strips, config.fastsim.elements_per_strip
             ),
             CreepLaw::Fastsim(config.fastsim),
+        ),
+        (
+            format!(
+                "FaStrip {}×{}",
+                config.fastsim.strips, config.fastsim.elements_per_strip
+            ),
+            CreepLaw::Fastrip(FastripParams {
+                strips: config.fastsim.strips,
+                elements_per_strip: config.fastsim.elements_per_strip,
+            }),
         ),
     ]
 }

@@ -438,6 +438,7 @@ const KEYS: &[&str] = &[
     "contact.friction",
     "contact.restitution",
     "contact.fastsim_strips",
+    "contact.fastrip_strips",
     "initial.speed_m_s",
     "initial.lateral_m",
     "initial.deceleration_m_s2",

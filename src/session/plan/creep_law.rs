@@ -18,8 +18,9 @@ pub(super) fn decide(law: CreepLawName) -> Result<Decision> {
         by: By::Scene,
         reason: match cost.relative(law) {
             Some(f) => format!(
-                "wall time ×{f:.2} of Polach's (FASTSIM ×{:.2}, Kalker ×{:.2}, Heuristic ×{:.2}; {})",
+                "wall time ×{f:.2} of Polach's (FASTSIM ×{:.2}, FaStrip ×{:.2}, Kalker ×{:.2}, Heuristic ×{:.2}; {})",
                 rel(CreepLawName::Fastsim),
+                rel(CreepLawName::Fastrip),
                 rel(CreepLawName::Kalker),
                 rel(CreepLawName::Heuristic),
                 cost.study

@@ -614,6 +614,7 @@ mod tests {
             "rk4 1 ms",
             "dopri5 rtol 1e-6",
             "creep kalker",
+            "creep fastrip",
             "scheme pchip",
             "quick look",
             "design study",

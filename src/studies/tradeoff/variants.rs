@@ -223,7 +223,7 @@ pub fn variants(scene: &Scene, quick: bool) -> (Vec<Variant>, Vec<String>) {
         var.overrides = dp(rtol);
         v.push(var);
     }
-    for law in ["kalker", "heuristic", "polach", "fastsim"] {
+    for law in ["kalker", "heuristic", "polach", "fastsim", "fastrip"] {
         if law != scene.contact.creep_law.as_str() {
             v.push(Variant::new(
                 &format!("creep {law}"),

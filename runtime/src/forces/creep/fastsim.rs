@@ -244,19 +244,19 @@ impl FastsimParams {
 /// The three flexibilities of the simplified theory (m/Pa), Kalker 1982
 /// (module docs).
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Flexibilities {
+pub(super) struct Flexibilities {
     /// L1 = 8a/(3 C11 G), longitudinal creepage.
-    l1_m_pa: f64,
+    pub(super) l1_m_pa: f64,
     /// L2 = 8a/(3 C22 G), lateral creepage.
-    l2_m_pa: f64,
+    pub(super) l2_m_pa: f64,
     /// L3 = π a √(a/b)/(4 C23 G), spin.
-    l3_m_pa: f64,
+    pub(super) l3_m_pa: f64,
 }
 
 impl Flexibilities {
     /// Kalker's flexibilities for semi-axes `a_m` (rolling) and `b_m`
     /// (lateral), shear modulus `g_pa` and coefficients `c`.
-    fn kalker(a_m: f64, b_m: f64, g_pa: f64, c: &KalkerCoefficients) -> Self {
+    pub(super) fn kalker(a_m: f64, b_m: f64, g_pa: f64, c: &KalkerCoefficients) -> Self {
         Flexibilities {
             l1_m_pa: 8.0 * a_m / (3.0 * c.c11 * g_pa),
             l2_m_pa: 8.0 * a_m / (3.0 * c.c22 * g_pa),
@@ -307,13 +307,13 @@ fn discrete_peak_pressure_pa(p: &FastsimParams, n_n: f64, a_m: f64, b_m: f64) ->
 }
 
 /// Normalised centre 1 − (2k − 1)/n of element k of n (k = 1 at +1).
-fn element_centre(k: usize, n: usize) -> f64 {
+pub(super) fn element_centre(k: usize, n: usize) -> f64 {
     1.0 - (2.0 * k as f64 - 1.0) / n as f64
 }
 
 /// √(1 − s²): half-length of the strip at normalised lateral position s, in
 /// units of a.
-fn half_chord(s: f64) -> f64 {
+pub(super) fn half_chord(s: f64) -> f64 {
     (1.0 - s * s).max(0.0).sqrt()
 }
 

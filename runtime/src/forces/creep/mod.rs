@@ -23,14 +23,17 @@
 //! | [`CreepLaw::Heuristic`] | Shen, Hedrick & Elkins 1983, paper eq. 24–26 | cubic in the Kalker force | 0 | μN |
 //! | [`CreepLaw::Polach`] | Polach 1999, 2005 | Polach | 0 | μN |
 //! | [`CreepLaw::Fastsim`] | Kalker 1982 (simplified theory) | strip integration | integrated | μN (pointwise) |
+//! | [`CreepLaw::Fastrip`] | Sichani, Enblom & Berg 2016 (strip theory + FASTSIM) | strip integration | integrated | μN (pointwise) |
 //!
 //! A zero normal force gives zero forces for every law (no contact patch).
 
+mod fastrip;
 mod fastsim;
 mod heuristic;
 mod kalker;
 mod polach;
 
+pub use fastrip::FastripParams;
 pub use fastsim::{FastsimParams, TractionBound};
 pub use heuristic::heuristic_with_coefficients;
 pub use kalker::{KalkerCoefficients, kalker_coefficients};
@@ -192,6 +195,9 @@ pub enum CreepLaw {
     /// Kalker's simplified theory, FASTSIM (Kalker 1982), on the Hertz
     /// ellipse.
     Fastsim(FastsimParams),
+    /// FaStrip (Sichani, Enblom & Berg 2016): the strip theory in the
+    /// adhesion zone, FASTSIM with the Hertz traction bound in the slip zone.
+    Fastrip(FastripParams),
 }
 
 impl Default for CreepLaw {
@@ -204,10 +210,17 @@ impl Default for CreepLaw {
 
 impl CreepLaw {
     /// The names accepted by [`CreepLaw::from_name`].
-    pub const NAMES: [&'static str; 5] = ["kalker", "heuristic", "polach", "fastsim", "none"];
+    pub const NAMES: [&'static str; 6] = [
+        "kalker",
+        "heuristic",
+        "polach",
+        "fastsim",
+        "fastrip",
+        "none",
+    ];
 
     /// The law of that name (`kalker`, `heuristic`, `polach`, `fastsim`,
-    /// `none`) with default parameters.
+    /// `fastrip`, `none`) with default parameters.
     pub fn from_name(name: &str) -> Option<CreepLaw> {
         match name {
             "none" => Some(CreepLaw::None),
@@ -215,11 +228,13 @@ impl CreepLaw {
             "heuristic" => Some(CreepLaw::Heuristic),
             "polach" => Some(CreepLaw::Polach(PolachParams::default())),
             "fastsim" => Some(CreepLaw::Fastsim(FastsimParams::default())),
+            "fastrip" => Some(CreepLaw::Fastrip(FastripParams::default())),
             _ => None,
         }
     }
 
-    /// Short name (`kalker`, `heuristic`, `polach`, `fastsim`, `none`).
+    /// Short name (`kalker`, `heuristic`, `polach`, `fastsim`, `fastrip`,
+    /// `none`).
     pub fn name(&self) -> &'static str {
         match self {
             CreepLaw::None => "none",
@@ -227,6 +242,7 @@ impl CreepLaw {
             CreepLaw::Heuristic => "heuristic",
             CreepLaw::Polach(_) => "polach",
             CreepLaw::Fastsim(_) => "fastsim",
+            CreepLaw::Fastrip(_) => "fastrip",
         }
     }
 
@@ -236,6 +252,7 @@ impl CreepLaw {
             CreepLaw::None | CreepLaw::KalkerLinear | CreepLaw::Heuristic => Ok(()),
             CreepLaw::Polach(p) => p.validate(),
             CreepLaw::Fastsim(p) => p.validate(),
+            CreepLaw::Fastrip(p) => p.validate(),
         }
     }
 
@@ -252,6 +269,7 @@ impl CreepLaw {
             CreepLaw::Heuristic => heuristic::forces(input),
             CreepLaw::Polach(p) => polach::forces(input, p),
             CreepLaw::Fastsim(p) => fastsim::forces(input, p),
+            CreepLaw::Fastrip(p) => fastrip::forces(input, p),
         }
     }
 }
