@@ -84,7 +84,39 @@ impl Candidate {
     pub fn lead_m(&self) -> f64 {
         self.rolling_radius_m * self.params.s_wheel_rad.sin()
     }
+
+    /// True when the solution is a local minimum of the gap across the
+    /// profiles (a contact, or the closest approach of a piece), false at a
+    /// maximum — the stationary point between two patches on one wheel,
+    /// which solves the same equations (docs/reference/06-contact-detection.md §6.1).
+    ///
+    /// Moving the wheel point by an arc length ds along its profile changes
+    /// the gap G = −δ by ½·(κ_w + κ_r/(1 + κ_r·G))·ds² at a stationary
+    /// point: κ_w the wheel profile's curvature (convex towards the rail
+    /// positive), κ_r/(1 + κ_r·G) the curvature of the rail head's parallel
+    /// curve through the wheel point (κ_r convex positive). A minimum needs
+    /// this relative lateral curvature to be positive; it is compared with
+    /// −[`FLAT_RELATIVE_CURVATURE_1_M`] so that a flat pair (a cone on a
+    /// flat rail top, relative curvature zero up to spline round-off) still
+    /// counts as a contact. Where the parallel curve degenerates
+    /// (1 + κ_r·G ≤ 0: an overlap deeper than the rail's radius of
+    /// curvature) the solution is kept.
+    pub fn is_gap_minimum(&self) -> bool {
+        let (kw, kr) = (
+            self.curvatures.wheel_lateral_1_m,
+            self.curvatures.rail_lateral_1_m,
+        );
+        let scale = 1.0 - kr * self.penetration_m;
+        scale <= 0.0 || kw + kr / scale > -FLAT_RELATIVE_CURVATURE_1_M
+    }
 }
+
+/// Relative lateral curvature (1/m) below which a pair counts as flat when
+/// telling minima of the gap from maxima ([`Candidate::is_gap_minimum`]):
+/// a relative radius of 20 m, flat for a contact patch of millimetres (the
+/// same floor as the settling's non-Hertzian contacts,
+/// docs/reference/06-contact-detection.md §6.6).
+pub const FLAT_RELATIVE_CURVATURE_1_M: f64 = 0.05;
 
 /// Build a candidate from a converged evaluation.
 #[allow(clippy::too_many_arguments)]

@@ -91,6 +91,10 @@ pub enum ContactError {
         s_track_m: f64,
         position_m: [f64; 3],
     },
+    #[error(
+        "the {side} wheel touches its rail in more than {capacity} patches (separate minima of the gap in contact): more than the solver's slots; the profiles are too wavy to be modelled (check the profile files)"
+    )]
+    TooManyPatches { side: Side, capacity: usize },
     #[error(transparent)]
     Track(#[from] TrackError),
     #[error("{0}")]
