@@ -23,6 +23,15 @@ const OUTSIDE_M: f64 = 0.002;
 /// Sampled gap beyond which a piece whose exact closest point was not found
 /// is still certainly clear of the rail (m); see `clear_gap_m`.
 const CLEAR_GAP_M: f64 = 0.001;
+/// Resolution of the test whether two patches are separate (m along the
+/// wheel profile): a lift-off narrower than this between two minima of the
+/// gap in contact may go unseen, and the two are then one patch — 0.25 mm,
+/// a tenth of a tread patch's half-width, where elastic deformation closes
+/// such a gap anyway.
+const SEPARATION_STEP_M: f64 = 2.5e-4;
+/// Bisection levels of that test at most (2⁸ points: 0.25 mm over 64 mm).
+const SEPARATION_LEVELS: u32 = 8;
+
 /// Two solutions whose wheel points and rail points both lie closer than
 /// this (m) are the same contact, found twice (from two starts, or by the
 /// searches of two neighbouring pieces when it lies at their split). Two
@@ -319,6 +328,46 @@ impl WheelsetContactModel {
             .max(pose.frame.column(0).z.abs());
         CLEAR_GAP_M
             + yaw * (2.0 * wheel.nominal_radius_m() * wheel.flange_depth_m().max(0.01)).sqrt()
+    }
+
+    /// Whether two patches in contact on one wheel are separate: some wheel
+    /// point between them on the contact locus lies outside the rail (the
+    /// overlap of the wheel with its rail has two separate parts). Minima
+    /// of the gap joined by an overlap throughout — a nearly conformal
+    /// stretch such as S1002's throat against UIC60's gauge corner, both of
+    /// radius 13 mm — are one patch (docs/reference/06-contact-detection.md §6.7).
+    /// The points between are tried midpoint first, then at every level of
+    /// bisection down to [`SEPARATION_STEP_M`].
+    pub(crate) fn separated(
+        &self,
+        track: &TrackTables,
+        pose: &WheelsetPose,
+        a: &Candidate,
+        b: &Candidate,
+    ) -> bool {
+        let Some(pair) = self.pair(track, pose, a.side, a.segment) else {
+            return true;
+        };
+        let (ua, ub) = (
+            pair.sigma * a.params.u_wheel_m,
+            pair.sigma * b.params.u_wheel_m,
+        );
+        let s_r0 = 0.5 * (a.params.s_rail_m + b.params.s_rail_m);
+        let span = (ub - ua).abs();
+        let mut parts = 2_usize;
+        while parts <= 1 << SEPARATION_LEVELS {
+            for k in (1..parts).step_by(2) {
+                let u = ua + (ub - ua) * k as f64 / parts as f64;
+                if search::inside_rail(&pair, s_r0, u) != Some(true) {
+                    return true;
+                }
+            }
+            if span / parts as f64 <= SEPARATION_STEP_M {
+                break;
+            }
+            parts *= 2;
+        }
+        false
     }
 
     /// True when `x` lies within the profiles, widened by [`OUTSIDE_M`].

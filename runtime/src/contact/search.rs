@@ -145,9 +145,23 @@ struct Section {
     s_w: f64,
 }
 
+/// A wheel point on the contact locus, expressed in its rail section.
+struct LocusPoint {
+    /// Angle of the wheel point about the axle (rad).
+    s_w: f64,
+    /// Rail arc length of its section (m).
+    s_r: f64,
+    /// The wheel point in the section's internal rail coordinates (u, z) (m).
+    point: (f64, f64),
+    /// The wheel's profile tangent (paper eq. 12) in the same coordinates.
+    tangent: (f64, f64),
+}
+
 /// The wheel point at internal `u_int` on the contact locus (see the module
-/// docs), its rail section and the rail point of the same slope there.
-fn section(pair: &Pair<'_>, rail: &RailSlopes, s_rail0_m: f64, u_int: f64) -> Option<Section> {
+/// docs), located in the cross-section of its rail starting from arc length
+/// `s_rail0_m`. `None` where the wheel normal cannot lie in a rail
+/// cross-section (a face steeper than 90° − the yaw) or off the track tables.
+fn locus(pair: &Pair<'_>, s_rail0_m: f64, u_int: f64) -> Option<LocusPoint> {
     let sg = pair.sigma;
     let wp = pair.wheel_curve.at(u_int);
     let f_w = wp.z_m - pair.wheel.nominal_radius_m();
@@ -182,8 +196,29 @@ fn section(pair: &Pair<'_>, rail: &RailSlopes, s_rail0_m: f64, u_int: f64) -> Op
     let p = pair.rail_table.at(s_r).ok()?;
     let delta = r_w - p.position;
     // Internal rail coordinates: u = σ(Δ·n), z = Δ·b.
-    let (wu, wz) = (sg * delta.dot(&p.frame.n), delta.dot(&p.frame.b));
-    let (tu, tz) = (sg * t_w.dot(&p.frame.n), t_w.dot(&p.frame.b));
+    Some(LocusPoint {
+        s_w,
+        s_r,
+        point: (sg * delta.dot(&p.frame.n), delta.dot(&p.frame.b)),
+        tangent: (sg * t_w.dot(&p.frame.n), t_w.dot(&p.frame.b)),
+    })
+}
+
+/// Whether the wheel point at internal `u_int` on the contact locus lies
+/// inside the rail head (below its surface in the rail's cross-section);
+/// `None` where the locus point does not exist. A point beside the head
+/// (outside the rail profile's lateral extent) is outside.
+pub(crate) fn inside_rail(pair: &Pair<'_>, s_rail0_m: f64, u_int: f64) -> Option<bool> {
+    let l = locus(pair, s_rail0_m, u_int)?;
+    let (wu, wz) = l.point;
+    Some(pair.rail.head().contains(wu, 0.0) && wz < pair.rail.head().at(wu).z_m)
+}
+
+/// The wheel point at internal `u_int` on the contact locus, its rail
+/// section and the rail point of the same slope there.
+fn section(pair: &Pair<'_>, rail: &RailSlopes, s_rail0_m: f64, u_int: f64) -> Option<Section> {
+    let l = locus(pair, s_rail0_m, u_int)?;
+    let ((wu, wz), (tu, tz)) = (l.point, l.tangent);
     if tu.abs() < 1e-12 {
         return None;
     }
@@ -195,8 +230,8 @@ fn section(pair: &Pair<'_>, rail: &RailSlopes, s_rail0_m: f64, u_int: f64) -> Op
         g: (du + dz * rp.dz) / norm,
         distance: (-du * rp.dz + dz) / norm,
         v,
-        s_r,
-        s_w,
+        s_r: l.s_r,
+        s_w: l.s_w,
     })
 }
 

@@ -145,10 +145,9 @@ pub struct SolverStats {
     pub flange_skipped: u64,
     /// Contacts taken from the minimisation fallback.
     pub minimisations: u64,
-    /// Piece searches skipped during time stepping because the wheel has
-    /// hardly moved since the piece's last search (see `Searched` in the
-    /// solver's source): its patches are followed by warm start, and a
-    /// piece found without any is not searched again.
+    /// Pieces without a patch not searched again during time stepping
+    /// because the wheel has hardly moved since their last search (see
+    /// `Searched` in the solver's source).
     pub clear_skipped: u64,
 }
 
@@ -303,6 +302,9 @@ pub struct ContactSolver {
     /// Each piece's last search, by piece.
     searched: [[Option<Searched>; MAX_SEGMENTS]; 2],
     pub stats: SolverStats,
+    /// Working list of the patches found for a wheel (empty between calls;
+    /// kept so that a step allocates nothing).
+    scratch: Vec<(Option<usize>, Candidate)>,
 }
 
 impl ContactSolver {
@@ -312,6 +314,7 @@ impl ContactSolver {
             warm: Default::default(),
             searched: Default::default(),
             stats: SolverStats::default(),
+            scratch: Vec::with_capacity(4 * MAX_SEGMENTS),
         }
     }
 
@@ -372,7 +375,8 @@ impl ContactSolver {
             let flange = self.flange_needed(model, &position, side);
             let segments = model.wheel(side).segments();
             // (slot followed from the last solve, patch)
-            let mut found: Vec<(Option<usize>, Candidate)> = Vec::new();
+            let mut found = std::mem::take(&mut self.scratch);
+            found.clear();
             let mut lost = [false; MAX_SEGMENTS];
             // Patches on flange pieces the rule does not search now: kept
             // in memory, not reported.
@@ -406,7 +410,9 @@ impl ContactSolver {
                     && !lost[k]
                     && self.searched[i][k].is_some_and(|c| c.still_valid(&position, pose.s_track_m))
                 {
-                    self.stats.clear_skipped += 1;
+                    if !found.iter().any(|(_, c)| c.segment == k) {
+                        self.stats.clear_skipped += 1;
+                    }
                     continue;
                 }
                 let patches = model.search_piece(track, pose, side, k, &self.options)?;
@@ -421,20 +427,29 @@ impl ContactSolver {
                 }
                 found.extend(patches.into_iter().map(|c| (None, c)));
             }
-            let kept = keep(found, side)?;
+            keep(&mut found, side, |a, b| model.separated(track, pose, a, b))?;
             // Slots: a followed patch keeps its own, the others fill the free
             // ones, deepest first.
-            let mut slots: [Option<(Option<usize>, Candidate)>; MAX_SEGMENTS] = Default::default();
-            for (slot, c) in kept.iter().filter_map(|(s, c)| s.map(|s| (s, c))) {
-                slots[slot] = Some((Some(slot), *c));
+            let mut taken = parked;
+            for (slot, _) in &found {
+                if let Some(k) = slot {
+                    taken[*k] = true;
+                }
             }
-            let free_slots: Vec<usize> = (0..MAX_SEGMENTS)
-                .filter(|&k| slots[k].is_none() && !parked[k])
-                .collect();
-            let mut free = free_slots.into_iter();
-            for (_, c) in kept.iter().filter(|(s, _)| s.is_none()) {
-                match free.next() {
-                    Some(k) => slots[k] = Some((None, *c)),
+            let mut assigned: [Option<usize>; MAX_SEGMENTS] = [None; MAX_SEGMENTS];
+            for (n, (slot, c)) in found.iter().enumerate() {
+                let k = match slot {
+                    Some(k) => Some(*k),
+                    None => {
+                        let free = (0..MAX_SEGMENTS).find(|&k| !taken[k]);
+                        if let Some(k) = free {
+                            taken[k] = true;
+                        }
+                        free
+                    }
+                };
+                match k {
+                    Some(k) => assigned[k] = Some(n),
                     // Surplus gaps are not patches (see `keep`).
                     None if !c.in_contact() => {}
                     None => {
@@ -445,14 +460,15 @@ impl ContactSolver {
                     }
                 }
             }
-            for (k, slot) in slots.iter().enumerate() {
+            for k in 0..MAX_SEGMENTS {
                 if parked[k] {
                     continue;
                 }
-                let Some((followed, c)) = slot else {
+                let Some(n) = assigned[k] else {
                     self.warm[i][k] = None;
                     continue;
                 };
+                let (followed, c) = &found[n];
                 if c.method == super::SolveMethod::Minimisation {
                     self.stats.minimisations += 1;
                 }
@@ -469,48 +485,63 @@ impl ContactSolver {
                 });
                 out.candidates[i][k] = Some(*c);
             }
+            found.clear();
+            self.scratch = found;
         }
         Ok(out)
     }
 }
 
 /// The patches of one wheel to report, from the minima found (followed ones
-/// first): each once ([`same_contact`], the first found kept), then every one
-/// in contact, the deepest of each piece, and the others within
+/// first): each once ([`same_contact`], the first found kept); of the ones in
+/// contact, deepest first, those not `separated` from a deeper one dropped
+/// (one connected overlap is one patch); then every remaining one in
+/// contact, the deepest of each piece, and the others within
 /// [`SECOND_PATCH_GAP_M`]; at most [`MAX_SEGMENTS`], deepest first (an error
 /// when patches in contact would be dropped; surplus gaps are not patches
 /// and are dropped).
 fn keep(
-    found: Vec<(Option<usize>, Candidate)>,
+    found: &mut Vec<(Option<usize>, Candidate)>,
     side: Side,
-) -> Result<Vec<(Option<usize>, Candidate)>, ContactError> {
-    let mut unique: Vec<(Option<usize>, Candidate)> = Vec::with_capacity(found.len());
-    for (slot, c) in found {
-        if !unique.iter().any(|(_, u)| same_contact(u, &c)) {
-            unique.push((slot, c));
+    separated: impl Fn(&Candidate, &Candidate) -> bool,
+) -> Result<(), ContactError> {
+    let mut n = 0;
+    while n < found.len() {
+        if found[..n].iter().any(|(_, u)| same_contact(u, &found[n].1)) {
+            found.remove(n);
+        } else {
+            n += 1;
         }
     }
-    let deepest_of_piece = |c: &Candidate| {
-        !unique
-            .iter()
-            .any(|(_, o)| o.segment == c.segment && o.penetration_m > c.penetration_m)
-    };
-    let mut kept: Vec<(Option<usize>, Candidate)> = unique
-        .iter()
-        .filter(|(_, c)| {
-            c.in_contact() || -c.penetration_m < SECOND_PATCH_GAP_M || deepest_of_piece(c)
-        })
-        .copied()
-        .collect();
-    kept.sort_by(|a, b| b.1.penetration_m.total_cmp(&a.1.penetration_m));
-    if kept.len() > MAX_SEGMENTS {
-        if kept[MAX_SEGMENTS].1.in_contact() {
+    found.sort_by(|a, b| b.1.penetration_m.total_cmp(&a.1.penetration_m));
+    let mut n = 0;
+    while n < found.len() {
+        let c = &found[n].1;
+        if c.in_contact() && found[..n].iter().any(|(_, d)| !separated(d, c)) {
+            found.remove(n);
+        } else {
+            n += 1;
+        }
+    }
+    let mut deepest = [f64::NEG_INFINITY; MAX_SEGMENTS];
+    for (_, c) in found.iter() {
+        if let Some(d) = deepest.get_mut(c.segment) {
+            *d = d.max(c.penetration_m);
+        }
+    }
+    found.retain(|(_, c)| {
+        c.in_contact()
+            || -c.penetration_m < SECOND_PATCH_GAP_M
+            || deepest.get(c.segment).is_none_or(|&d| c.penetration_m >= d)
+    });
+    if found.len() > MAX_SEGMENTS {
+        if found[MAX_SEGMENTS].1.in_contact() {
             return Err(ContactError::TooManyPatches {
                 side,
                 capacity: MAX_SEGMENTS,
             });
         }
-        kept.truncate(MAX_SEGMENTS);
+        found.truncate(MAX_SEGMENTS);
     }
-    Ok(kept)
+    Ok(())
 }
