@@ -180,7 +180,7 @@ fn locus(pair: &Pair<'_>, s_rail0_m: f64, u_int: f64) -> Option<LocusPoint> {
         }
         let r = t.x.hypot(t.z);
         let x = t.y * f1 / r;
-        if !(x.abs() < 1.0) {
+        if x.is_nan() || x.abs() >= 1.0 {
             return None;
         }
         s_w = t.z.atan2(t.x) - x.asin();

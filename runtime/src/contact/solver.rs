@@ -382,12 +382,12 @@ impl ContactSolver {
             // in memory, not reported.
             let mut parked = [false; MAX_SEGMENTS];
             if stepping {
-                for slot in 0..MAX_SEGMENTS {
+                for (slot, park) in parked.iter_mut().enumerate() {
                     let Some(w) = self.warm[i][slot] else {
                         continue;
                     };
                     if w.zone == Zone::Flange && !flange {
-                        parked[slot] = true;
+                        *park = true;
                         continue;
                     }
                     let guess = w.guess(l_now);
