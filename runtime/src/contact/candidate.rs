@@ -169,3 +169,61 @@ pub(crate) fn from_eval(
         rail_profile_point_m: rail_to_file(sigma * params.u_rail_m, rp.z_m),
     }
 }
+
+#[cfg(test)]
+#[cfg(feature = "fixtures")] // the shared S1002/UIC60 wheelset
+mod tests {
+    use super::*;
+    use crate::contact::quasi_static::{Support, settle};
+    use crate::fixtures::wheelsets::{flange_solver, s1002_uic60, straight_track_for};
+
+    /// The left tread contact of the centred S1002/UIC60 wheelset.
+    fn tread_contact() -> Candidate {
+        let model = s1002_uic60().unwrap();
+        let track = straight_track_for(&model, 20.0);
+        let st = settle(
+            &model,
+            &track,
+            10.0,
+            0.0,
+            0.0,
+            Support::Rigid,
+            &mut flange_solver(),
+        )
+        .unwrap();
+        *st.main_contact(Side::Left).unwrap()
+    }
+
+    fn with(kw: f64, kr: f64, penetration_m: f64) -> Candidate {
+        let mut c = tread_contact();
+        c.curvatures.wheel_lateral_1_m = kw;
+        c.curvatures.rail_lateral_1_m = kr;
+        c.penetration_m = penetration_m;
+        c
+    }
+
+    /// Convex on convex, or a hollow wheel on a sharper rail: a minimum; a
+    /// hollow wheel sharper than the rail: a maximum (between two patches);
+    /// a flat pair counts as a contact.
+    #[test]
+    fn minima_and_maxima_of_the_gap_by_the_relative_curvature() {
+        assert!(with(2.0, 3.3, 0.0).is_gap_minimum());
+        assert!(with(-3.0, 3.3, 0.0).is_gap_minimum());
+        assert!(!with(-4.0, 3.3, 0.0).is_gap_minimum());
+        assert!(with(0.0, 0.0, 0.0).is_gap_minimum());
+        assert!(with(-0.04, 0.0, 0.0).is_gap_minimum());
+        assert!(!with(-0.06, 0.0, 0.0).is_gap_minimum());
+    }
+
+    /// Overlapping, the rail's parallel curve through the wheel point is
+    /// sharper: a 12.9 mm throat on a 13 mm gauge corner is a maximum at
+    /// touch and a minimum 0.2 mm deep; deeper than the rail's radius the
+    /// solution is kept.
+    #[test]
+    fn the_overlap_sharpens_the_rail() {
+        let (kw, kr) = (-1.0 / 0.0129, 1.0 / 0.013);
+        assert!(!with(kw, kr, 0.0).is_gap_minimum());
+        assert!(with(kw, kr, 2e-4).is_gap_minimum());
+        assert!(with(kw, kr, 0.02).is_gap_minimum());
+    }
+}

@@ -545,3 +545,100 @@ fn keep(
     }
     Ok(())
 }
+
+#[cfg(test)]
+#[cfg(feature = "fixtures")] // the shared S1002/UIC60 wheelset
+mod tests {
+    use super::*;
+    use crate::contact::quasi_static::{Support, settle};
+    use crate::fixtures::wheelsets::{flange_solver, s1002_uic60, straight_track_for};
+
+    /// A real tread contact, moved `dy_m` across and set to `penetration_m`
+    /// on piece `segment`.
+    fn patch(dy_m: f64, penetration_m: f64, segment: usize) -> Candidate {
+        let model = s1002_uic60().unwrap();
+        let track = straight_track_for(&model, 20.0);
+        let st = settle(
+            &model,
+            &track,
+            10.0,
+            0.0,
+            0.0,
+            Support::Rigid,
+            &mut flange_solver(),
+        )
+        .unwrap();
+        let mut c = *st.main_contact(Side::Left).unwrap();
+        c.wheel_point.y += dy_m;
+        c.rail_point.y += dy_m;
+        c.penetration_m = penetration_m;
+        c.segment = segment;
+        c
+    }
+
+    fn kept(
+        found: &[(Option<usize>, Candidate)],
+        separated: bool,
+    ) -> Result<Vec<(Option<usize>, f64)>, ContactError> {
+        let mut v = found.to_vec();
+        keep(&mut v, Side::Left, |_, _| separated)?;
+        Ok(v.iter().map(|(s, c)| (*s, c.penetration_m)).collect())
+    }
+
+    /// The same contact found twice (within 0.1 mm) is kept once, the first
+    /// found (a followed patch before a search's).
+    #[test]
+    fn a_patch_found_twice_is_kept_once() {
+        let a = patch(0.0, 1e-5, 0);
+        let b = patch(5e-5, 1.1e-5, 1);
+        let v = kept(&[(Some(3), a), (None, b)], true).unwrap();
+        assert_eq!(v, vec![(Some(3), 1e-5)]);
+        let c = patch(2e-4, 1.1e-5, 0);
+        assert_eq!(kept(&[(Some(3), a), (None, c)], true).unwrap().len(), 2);
+    }
+
+    /// Two minima in contact are two patches only when their overlaps are
+    /// separate; joined, the deepest stays.
+    #[test]
+    fn joined_minima_are_one_patch() {
+        let found = [(None, patch(0.0, 1e-5, 0)), (None, patch(0.01, 2e-5, 0))];
+        assert_eq!(
+            kept(&found, true).unwrap(),
+            vec![(None, 2e-5), (None, 1e-5)]
+        );
+        assert_eq!(kept(&found, false).unwrap(), vec![(None, 2e-5)]);
+    }
+
+    /// Gaps: the deepest of each piece stays, others only within
+    /// `SECOND_PATCH_GAP_M`.
+    #[test]
+    fn gaps_beside_a_patch() {
+        let found = [
+            (None, patch(0.0, 1e-5, 0)),
+            (None, patch(0.01, -4e-4, 0)),
+            (None, patch(0.02, -6e-4, 0)),
+            (None, patch(0.03, -3e-3, 1)),
+        ];
+        assert_eq!(
+            kept(&found, true).unwrap(),
+            vec![(None, 1e-5), (None, -4e-4), (None, -3e-3)]
+        );
+    }
+
+    /// More patches in contact than slots is an error naming the wheel;
+    /// surplus gaps are dropped.
+    #[test]
+    fn more_patches_than_slots() {
+        let mut found: Vec<(Option<usize>, Candidate)> = (0..=MAX_SEGMENTS)
+            .map(|k| (None, patch(0.01 * k as f64, 1e-5 * (k + 1) as f64, 0)))
+            .collect();
+        let e = kept(&found, true).unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("left wheel touches its rail in more than 6"),
+            "{e}"
+        );
+        found[0].1.penetration_m = -1e-5;
+        assert_eq!(kept(&found, true).unwrap().len(), MAX_SEGMENTS);
+    }
+}
