@@ -96,7 +96,7 @@ impl Candidate {
     /// positive), κ_r/(1 + κ_r·G) the curvature of the rail head's parallel
     /// curve through the wheel point (κ_r convex positive). A minimum needs
     /// this relative lateral curvature to be positive; it is compared with
-    /// −[`FLAT_RELATIVE_CURVATURE_1_M`] so that a flat pair (a cone on a
+    /// −[`super::FLAT_RELATIVE_CURVATURE_1_M`] so that a flat pair (a cone on a
     /// flat rail top, relative curvature zero up to spline round-off) still
     /// counts as a contact. Where the parallel curve degenerates
     /// (1 + κ_r·G ≤ 0: an overlap deeper than the rail's radius of

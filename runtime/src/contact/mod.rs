@@ -59,11 +59,13 @@ mod search;
 mod solver;
 pub mod table;
 
-pub use candidate::{Candidate, Curvatures, SolveMethod};
+pub use candidate::{Candidate, Curvatures, FLAT_RELATIVE_CURVATURE_1_M, SolveMethod};
 pub use geometry::SurfaceParams;
-pub use model::WheelsetContactModel;
+pub use model::{DUPLICATE_M, WheelsetContactModel};
 pub use pose::WheelsetPose;
-pub use solver::{ContactOptions, ContactSolver, FlangeSearch, SolverStats, WheelsetContacts};
+pub use solver::{
+    ContactOptions, ContactSolver, FlangeSearch, SECOND_PATCH_GAP_M, SolverStats, WheelsetContacts,
+};
 
 use crate::geometry::profile::Zone;
 use crate::geometry::track::{Side, TrackError};

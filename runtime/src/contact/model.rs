@@ -38,7 +38,7 @@ const SEPARATION_LEVELS: u32 = 8;
 /// distinct minima of the gap are separated by a maximum, and where they are
 /// this close they are about to merge and vanish (a fold): 0.1 mm is far
 /// below a contact patch's size.
-pub(crate) const DUPLICATE_M: f64 = 1e-4;
+pub const DUPLICATE_M: f64 = 1e-4;
 
 fn side_index(side: Side) -> usize {
     match side {

@@ -357,8 +357,8 @@ impl ContactSolver {
     ///   when the wheel has moved (see `Searched`) or a patch on it is lost.
     ///
     /// Of the minima of the gap found, each patch is kept once
-    /// ([`super::model::DUPLICATE_M`]): every patch in contact, the deepest of
-    /// each piece, and others within [`SECOND_PATCH_GAP_M`] of the rail. An
+    /// ([`super::DUPLICATE_M`]): every patch in contact, the deepest of
+    /// each piece, and others within [`super::SECOND_PATCH_GAP_M`] of the rail. An
     /// error when a wheel has more patches in contact than slots.
     pub fn solve(
         &mut self,
@@ -497,7 +497,7 @@ impl ContactSolver {
 /// contact, deepest first, those not `separated` from a deeper one dropped
 /// (one connected overlap is one patch); then every remaining one in
 /// contact, the deepest of each piece, and the others within
-/// [`SECOND_PATCH_GAP_M`]; at most [`MAX_SEGMENTS`], deepest first (an error
+/// [`super::SECOND_PATCH_GAP_M`]; at most [`MAX_SEGMENTS`], deepest first (an error
 /// when patches in contact would be dropped; surplus gaps are not patches
 /// and are dropped).
 fn keep(
