@@ -49,12 +49,14 @@ fn ml95_config(track: &TrackTables) -> ContactTableConfig {
 }
 
 /// Roll the centred wheelset along `track` from `s0` to `s1` (2 cm steps),
-/// at the height and roll of a rigid settling at `s0`; returns the worst
-/// warm iteration count and whether every step found contact on both wheels.
+/// at the height and roll of a rigid settling at `s0`, time stepping as a
+/// run does (patches followed by warm start); returns the worst warm
+/// iteration count and whether every step found contact on both wheels.
 fn roll_along(track: &TrackTables, s0: f64, s1: f64) -> (u32, bool) {
     let model = ml95_config(track).model().unwrap().0;
     let mut solver = ContactSolver::new(ContactOptions {
         flange: FlangeSearch::Off,
+        reuse_clear_pieces: true,
         ..Default::default()
     });
     let st = settle(&model, track, s0, 0.0, 0.0, Support::Rigid, &mut solver).unwrap();

@@ -1,7 +1,9 @@
 //! Criterion bench: one warm-started tread contact solve (Newton from the
-//! previous step's surface parameters), a whole wheelset step (both wheels),
-//! and a cold solve (coarse search + Newton), for S1002 on UIC60 and the
-//! ML95-like wheel on UIC60 1:20 (the shared `runtime::fixtures` wheelsets).
+//! previous step's surface parameters), a whole wheelset step (both wheels,
+//! time stepping: patches followed by warm start), a cold solve (coarse
+//! search + Newton) and a quasi-static wheelset solve (every piece searched
+//! afresh), for S1002 on UIC60 and the ML95-like wheel on UIC60 1:20 (the
+//! shared `runtime::fixtures` wheelsets).
 
 use std::hint::black_box;
 
@@ -62,7 +64,10 @@ fn bench(c: &mut Criterion) {
                     .expect("solves")
             })
         });
+        // Time stepping, as runs solve (multibody assembly): patches followed
+        // by warm start, pieces searched again only after the wheel has moved.
         let mut step_solver = solver.clone();
+        step_solver.options.reuse_clear_pieces = true;
         let pose_b = WheelsetPose::on_track(&track, 10.0, 0.002, st.height_m, 0.001, st.roll_rad)
             .expect("pose");
         let mut flip = false;
@@ -73,6 +78,18 @@ fn bench(c: &mut Criterion) {
                 step_solver.solve(&m, &track, black_box(p)).expect("solves")
             })
         });
+        // Quasi-static (the default options): every piece searched afresh.
+        let mut static_solver = solver.clone();
+        c.bench_function(
+            &format!("contact_wheelset_quasi_static_tread/{name}"),
+            |b| {
+                b.iter(|| {
+                    static_solver
+                        .solve(&m, &track, black_box(&pose))
+                        .expect("solves")
+                })
+            },
+        );
     }
 }
 

@@ -332,6 +332,9 @@ fn classify(e: &DynamicsError) -> Classified {
                     "contact equations did not converge (Newton, every start)",
                     place(side, zone),
                 ),
+                ContactError::TooManyPatches { .. } => {
+                    ("more contact patches on a wheel than slots", None)
+                }
                 ContactError::Track(_) => ("contact point off the track tables", None),
                 ContactError::Setup(_) => ("contact search set-up", None),
             };

@@ -11,6 +11,7 @@ mod bad_input;
 #[path = "../common/mod.rs"]
 mod common;
 mod contact;
+mod contact_search;
 mod fuzz;
 mod motion;
 mod track;

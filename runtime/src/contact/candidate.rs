@@ -84,7 +84,39 @@ impl Candidate {
     pub fn lead_m(&self) -> f64 {
         self.rolling_radius_m * self.params.s_wheel_rad.sin()
     }
+
+    /// True when the solution is a local minimum of the gap across the
+    /// profiles (a contact, or the closest approach of a piece), false at a
+    /// maximum — the stationary point between two patches on one wheel,
+    /// which solves the same equations (docs/reference/06-contact-detection.md §6.1).
+    ///
+    /// Moving the wheel point by an arc length ds along its profile changes
+    /// the gap G = −δ by ½·(κ_w + κ_r/(1 + κ_r·G))·ds² at a stationary
+    /// point: κ_w the wheel profile's curvature (convex towards the rail
+    /// positive), κ_r/(1 + κ_r·G) the curvature of the rail head's parallel
+    /// curve through the wheel point (κ_r convex positive). A minimum needs
+    /// this relative lateral curvature to be positive; it is compared with
+    /// −[`super::FLAT_RELATIVE_CURVATURE_1_M`] so that a flat pair (a cone on a
+    /// flat rail top, relative curvature zero up to spline round-off) still
+    /// counts as a contact. Where the parallel curve degenerates
+    /// (1 + κ_r·G ≤ 0: an overlap deeper than the rail's radius of
+    /// curvature) the solution is kept.
+    pub fn is_gap_minimum(&self) -> bool {
+        let (kw, kr) = (
+            self.curvatures.wheel_lateral_1_m,
+            self.curvatures.rail_lateral_1_m,
+        );
+        let scale = 1.0 - kr * self.penetration_m;
+        scale <= 0.0 || kw + kr / scale > -FLAT_RELATIVE_CURVATURE_1_M
+    }
 }
+
+/// Relative lateral curvature (1/m) below which a pair counts as flat when
+/// telling minima of the gap from maxima ([`Candidate::is_gap_minimum`]):
+/// a relative radius of 20 m, flat for a contact patch of millimetres (the
+/// same floor as the settling's non-Hertzian contacts,
+/// docs/reference/06-contact-detection.md §6.6).
+pub const FLAT_RELATIVE_CURVATURE_1_M: f64 = 0.05;
 
 /// Build a candidate from a converged evaluation.
 #[allow(clippy::too_many_arguments)]
@@ -135,5 +167,63 @@ pub(crate) fn from_eval(
         curvatures,
         wheel_profile_point_m: wheel_to_file(sigma * params.u_wheel_m, wp.z_m),
         rail_profile_point_m: rail_to_file(sigma * params.u_rail_m, rp.z_m),
+    }
+}
+
+#[cfg(test)]
+#[cfg(feature = "fixtures")] // the shared S1002/UIC60 wheelset
+mod tests {
+    use super::*;
+    use crate::contact::quasi_static::{Support, settle};
+    use crate::fixtures::wheelsets::{flange_solver, s1002_uic60, straight_track_for};
+
+    /// The left tread contact of the centred S1002/UIC60 wheelset.
+    fn tread_contact() -> Candidate {
+        let model = s1002_uic60().unwrap();
+        let track = straight_track_for(&model, 20.0);
+        let st = settle(
+            &model,
+            &track,
+            10.0,
+            0.0,
+            0.0,
+            Support::Rigid,
+            &mut flange_solver(),
+        )
+        .unwrap();
+        *st.main_contact(Side::Left).unwrap()
+    }
+
+    fn with(kw: f64, kr: f64, penetration_m: f64) -> Candidate {
+        let mut c = tread_contact();
+        c.curvatures.wheel_lateral_1_m = kw;
+        c.curvatures.rail_lateral_1_m = kr;
+        c.penetration_m = penetration_m;
+        c
+    }
+
+    /// Convex on convex, or a hollow wheel on a sharper rail: a minimum; a
+    /// hollow wheel sharper than the rail: a maximum (between two patches);
+    /// a flat pair counts as a contact.
+    #[test]
+    fn minima_and_maxima_of_the_gap_by_the_relative_curvature() {
+        assert!(with(2.0, 3.3, 0.0).is_gap_minimum());
+        assert!(with(-3.0, 3.3, 0.0).is_gap_minimum());
+        assert!(!with(-4.0, 3.3, 0.0).is_gap_minimum());
+        assert!(with(0.0, 0.0, 0.0).is_gap_minimum());
+        assert!(with(-0.04, 0.0, 0.0).is_gap_minimum());
+        assert!(!with(-0.06, 0.0, 0.0).is_gap_minimum());
+    }
+
+    /// Overlapping, the rail's parallel curve through the wheel point is
+    /// sharper: a 12.9 mm throat on a 13 mm gauge corner is a maximum at
+    /// touch and a minimum 0.2 mm deep; deeper than the rail's radius the
+    /// solution is kept.
+    #[test]
+    fn the_overlap_sharpens_the_rail() {
+        let (kw, kr) = (-1.0 / 0.0129, 1.0 / 0.013);
+        assert!(!with(kw, kr, 0.0).is_gap_minimum());
+        assert!(with(kw, kr, 2e-4).is_gap_minimum());
+        assert!(with(kw, kr, 0.02).is_gap_minimum());
     }
 }

@@ -60,12 +60,14 @@ mod search;
 mod solver;
 pub mod table;
 
-pub use candidate::{Candidate, Curvatures, SolveMethod};
+pub use candidate::{Candidate, Curvatures, FLAT_RELATIVE_CURVATURE_1_M, SolveMethod};
 pub use geometry::SurfaceParams;
-pub use model::WheelsetContactModel;
+pub use model::{DUPLICATE_M, WheelsetContactModel};
 pub use patch_centre::{PatchCentre, patch_centre};
 pub use pose::WheelsetPose;
-pub use solver::{ContactOptions, ContactSolver, FlangeSearch, SolverStats, WheelsetContacts};
+pub use solver::{
+    ContactOptions, ContactSolver, FlangeSearch, SECOND_PATCH_GAP_M, SolverStats, WheelsetContacts,
+};
 
 use crate::geometry::profile::Zone;
 use crate::geometry::track::{Side, TrackError};
@@ -93,6 +95,10 @@ pub enum ContactError {
         s_track_m: f64,
         position_m: [f64; 3],
     },
+    #[error(
+        "the {side} wheel touches its rail in more than {capacity} patches (separate minima of the gap in contact): more than the solver's slots; the profiles are too wavy to be modelled (check the profile files)"
+    )]
+    TooManyPatches { side: Side, capacity: usize },
     #[error(transparent)]
     Track(#[from] TrackError),
     #[error("{0}")]

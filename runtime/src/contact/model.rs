@@ -5,9 +5,10 @@ use nalgebra::Vector4;
 
 use super::candidate::{Candidate, SolveMethod, from_eval};
 use super::geometry::{Pair, SurfaceParams};
+use super::search::RailSlopes;
 use super::{ContactError, ContactOptions, WheelsetPose, newton, search};
 use crate::geometry::profile::{
-    PlacedRailProfile, ProfileError, RailPlacement, RailProfile, WheelProfile, Zone,
+    PlacedRailProfile, ProfileError, RailPlacement, RailProfile, WheelProfile,
 };
 use crate::geometry::track::{Side, TrackTables};
 
@@ -22,8 +23,22 @@ const OUTSIDE_M: f64 = 0.002;
 /// Sampled gap beyond which a piece whose exact closest point was not found
 /// is still certainly clear of the rail (m); see `clear_gap_m`.
 const CLEAR_GAP_M: f64 = 0.001;
-/// Cold-start points tried before giving up.
-const COLD_STARTS: usize = 6;
+/// Resolution of the test whether two patches are separate (m along the
+/// wheel profile): a lift-off narrower than this between two minima of the
+/// gap in contact may go unseen, and the two are then one patch — 0.25 mm,
+/// a tenth of a tread patch's half-width, where elastic deformation closes
+/// such a gap anyway.
+const SEPARATION_STEP_M: f64 = 2.5e-4;
+/// Bisection levels of that test at most (2⁸ points: 0.25 mm over 64 mm).
+const SEPARATION_LEVELS: u32 = 8;
+
+/// Two solutions whose wheel points and rail points both lie closer than
+/// this (m) are the same contact, found twice (from two starts, or by the
+/// searches of two neighbouring pieces when it lies at their split). Two
+/// distinct minima of the gap are separated by a maximum, and where they are
+/// this close they are about to merge and vanish (a fold): 0.1 mm is far
+/// below a contact patch's size.
+pub const DUPLICATE_M: f64 = 1e-4;
 
 fn side_index(side: Side) -> usize {
     match side {
@@ -39,6 +54,8 @@ pub struct WheelsetContactModel {
     rails: [PlacedRailProfile; 2],
     back_to_back_m: f64,
     placement: RailPlacement,
+    /// The rail heads' slope tables for the search (left, right).
+    slopes: [RailSlopes; 2],
 }
 
 impl WheelsetContactModel {
@@ -58,11 +75,13 @@ impl WheelsetContactModel {
                 rule: format!("back-to-back distance {back_to_back_m} m must lie in 0.3 … 3 m"),
             });
         }
+        let rails = [
+            left_rail.placed(&placement)?,
+            right_rail.placed(&placement)?,
+        ];
         Ok(Self {
-            rails: [
-                left_rail.placed(&placement)?,
-                right_rail.placed(&placement)?,
-            ],
+            slopes: [RailSlopes::new(&rails[0]), RailSlopes::new(&rails[1])],
+            rails,
             wheels: [left_wheel, right_wheel],
             back_to_back_m,
             placement,
@@ -117,9 +136,11 @@ impl WheelsetContactModel {
 
     /// Solve the contact equations of one wheel and one piece of its profile
     /// (see [`WheelProfile::segments`]): from `guess` when given, falling back
-    /// to the coarse search. `Ok(None)` when the piece does not exist or its
-    /// solution lies outside the profiles (no contact possible on this
-    /// piece); an error when no start converges.
+    /// to the search of the piece, whose deepest patch is returned (a piece
+    /// may hold several: [`super::ContactSolver`] returns them all).
+    /// `Ok(None)` when the piece does not exist or has no minimum of the gap
+    /// of its own (no contact possible on this piece); an error when no start
+    /// converges.
     pub fn solve_pair(
         &self,
         track: &TrackTables,
@@ -129,43 +150,77 @@ impl WheelsetContactModel {
         guess: Option<SurfaceParams>,
         options: &ContactOptions,
     ) -> Result<Option<Candidate>, ContactError> {
+        if let Some(g) = guess {
+            let (found, _) = self.follow(track, pose, side, segment, g, options);
+            if let Some(c) = found.filter(|c| c.segment == segment) {
+                return Ok(Some(c));
+            }
+        }
+        Ok(self
+            .search_piece(track, pose, side, segment, options)?
+            .into_iter()
+            .find(|c| c.segment == segment))
+    }
+
+    /// Follow a patch from the previous solution `guess` (warm start):
+    /// Newton's method from it, accepted when it converges to a minimum of
+    /// the gap on the wheel's profile (possibly on a neighbouring piece: the
+    /// candidate names the piece it lies on). Also returns the iterations
+    /// spent.
+    pub(crate) fn follow(
+        &self,
+        track: &TrackTables,
+        pose: &WheelsetPose,
+        side: Side,
+        segment: usize,
+        guess: SurfaceParams,
+        options: &ContactOptions,
+    ) -> (Option<Candidate>, u32) {
+        let Some(pair) = self.pair(track, pose, side, segment) else {
+            return (None, 0);
+        };
+        match newton::solve(&pair, guess.to_vector(), options.max_iterations) {
+            Ok(c) => (self.accept(&pair, side, segment, &c, false), c.iterations),
+            Err(f) => (None, f.iterations),
+        }
+    }
+
+    /// Every patch the search of one piece finds (docs/reference/06-contact-detection.md §6.3):
+    /// Newton's method from each stationary point of the gap along the piece's
+    /// contact locus, keeping the converged minima of the gap (maxima between
+    /// two patches are not contacts), each once, deepest first. A solution
+    /// may lie on a neighbouring piece (a start near the split converging
+    /// across it): it is kept, naming its own piece. Empty when the piece
+    /// has no minimum of its own; an error when no start converges on a
+    /// piece in or near contact and the minimisation fallback is off.
+    pub(crate) fn search_piece(
+        &self,
+        track: &TrackTables,
+        pose: &WheelsetPose,
+        side: Side,
+        segment: usize,
+        options: &ContactOptions,
+    ) -> Result<Vec<Candidate>, ContactError> {
         let max_iterations = options.max_iterations;
         let Some(pair) = self.pair(track, pose, side, segment) else {
-            return Ok(None);
+            return Ok(Vec::new());
         };
         let zone = self.wheel(side).segments()[segment].zone;
         let mut any_converged = false;
         let mut last_fail = None;
         let mut total_iterations = 0;
-        if let Some(g) = guess {
-            match newton::solve(&pair, g.to_vector(), max_iterations) {
-                Ok(c) => {
-                    any_converged = true;
-                    total_iterations += c.iterations;
-                    if let Some(cand) = self.accept(&pair, side, zone, segment, &c, false) {
-                        return Ok(Some(cand));
-                    }
-                }
-                Err(f) => {
-                    total_iterations += f.iterations;
-                    last_fail = Some(f)
-                }
-            }
-        }
         let s_rail0 = track.centerline.rail_l(side, pose.s_track_m)?;
-        let found = search::search(&pair, s_rail0, COLD_STARTS);
-        // Every start is tried; of the contacts found the deepest is kept
-        // (a nearly conformal piece can have several stationary points).
-        let mut best: Option<Candidate> = None;
+        let found = search::search(&pair, &self.slopes[side_index(side)], s_rail0);
+        let mut out: Vec<Candidate> = Vec::new();
         for &x0 in &found.starts {
             match newton::solve(&pair, x0, max_iterations) {
                 Ok(c) => {
                     any_converged = true;
                     total_iterations += c.iterations;
-                    if let Some(cand) = self.accept(&pair, side, zone, segment, &c, true)
-                        && best.is_none_or(|b| cand.penetration_m > b.penetration_m)
+                    if let Some(cand) = self.accept(&pair, side, segment, &c, true)
+                        && !out.iter().any(|o| same_contact(o, &cand))
                     {
-                        best = Some(cand);
+                        out.push(cand);
                     }
                 }
                 Err(f) => {
@@ -174,12 +229,15 @@ impl WheelsetContactModel {
                 }
             }
         }
-        if let Some(mut cand) = best {
-            cand.iterations = total_iterations;
-            return Ok(Some(cand));
+        if !out.is_empty() {
+            out.sort_by(|a, b| b.penetration_m.total_cmp(&a.penetration_m));
+            for c in &mut out {
+                c.iterations = total_iterations;
+            }
+            return Ok(out);
         }
         match (any_converged, last_fail) {
-            (true, _) | (false, None) => Ok(None),
+            (true, _) | (false, None) => Ok(Vec::new()),
             // No stationary point inside this piece: its closest approach is at
             // an end (the contact belongs to the neighbouring piece, or lies
             // beyond the modelled rail), or Newton left the piece for good.
@@ -188,7 +246,7 @@ impl WheelsetContactModel {
                     || !self.near_domains(&pair, &f.x)
                     || found.min_distance_m > self.clear_gap_m(side, pose) =>
             {
-                Ok(None)
+                Ok(Vec::new())
             }
             (false, Some(_)) if options.minimisation_fallback && found.minimum.is_some() => {
                 let x = found.minimum.expect("checked");
@@ -208,7 +266,7 @@ impl WheelsetContactModel {
                     |u, z| pair.rail.to_file_m(u, z),
                 );
                 c.method = SolveMethod::Minimisation;
-                Ok(Some(c))
+                Ok(vec![c])
             }
             (false, Some(f)) => Err(ContactError::NotConverged {
                 side,
@@ -272,34 +330,87 @@ impl WheelsetContactModel {
             + yaw * (2.0 * wheel.nominal_radius_m() * wheel.flange_depth_m().max(0.01)).sqrt()
     }
 
+    /// Whether two patches in contact on one wheel are separate: some wheel
+    /// point between them on the contact locus lies outside the rail (the
+    /// overlap of the wheel with its rail has two separate parts). Minima
+    /// of the gap joined by an overlap throughout — a nearly conformal
+    /// stretch such as S1002's throat against UIC60's gauge corner, both of
+    /// radius 13 mm — are one patch (docs/reference/06-contact-detection.md §6.7).
+    /// The points between are tried midpoint first, then at every level of
+    /// bisection down to [`SEPARATION_STEP_M`].
+    pub(crate) fn separated(
+        &self,
+        track: &TrackTables,
+        pose: &WheelsetPose,
+        a: &Candidate,
+        b: &Candidate,
+    ) -> bool {
+        let Some(pair) = self.pair(track, pose, a.side, a.segment) else {
+            return true;
+        };
+        let (ua, ub) = (
+            pair.sigma * a.params.u_wheel_m,
+            pair.sigma * b.params.u_wheel_m,
+        );
+        let s_r0 = 0.5 * (a.params.s_rail_m + b.params.s_rail_m);
+        let span = (ub - ua).abs();
+        let mut parts = 2_usize;
+        while parts <= 1 << SEPARATION_LEVELS {
+            for k in (1..parts).step_by(2) {
+                let u = ua + (ub - ua) * k as f64 / parts as f64;
+                if search::inside_rail(&pair, s_r0, u) != Some(true) {
+                    return true;
+                }
+            }
+            if span / parts as f64 <= SEPARATION_STEP_M {
+                break;
+            }
+            parts *= 2;
+        }
+        false
+    }
+
     /// True when `x` lies within the profiles, widened by [`OUTSIDE_M`].
     fn near_domains(&self, pair: &Pair<'_>, x: &Vector4<f64>) -> bool {
         pair.wheel_curve.contains(pair.sigma * x[3], OUTSIDE_M)
             && pair.rail.head().contains(pair.sigma * x[1], OUTSIDE_M)
     }
 
+    /// The candidate of a converged solve, or `None` when it is not a
+    /// contact: outside the wheel's profile (all pieces) or the rail head,
+    /// beyond [`MAX_S_WHEEL_RAD`], or a maximum of the gap (the stationary
+    /// point between two patches, [`Candidate::is_gap_minimum`]). A solution
+    /// outside the piece `segment` that was solved but on another piece of
+    /// the wheel is that piece's.
     fn accept(
         &self,
         pair: &Pair<'_>,
         side: Side,
-        zone: Zone,
         segment: usize,
         c: &newton::Converged,
         cold: bool,
     ) -> Option<Candidate> {
         let x: Vector4<f64> = c.x;
         let sg = pair.sigma;
-        let wheel_ok = pair.wheel_curve.contains(sg * x[3], DOMAIN_TOL_M);
+        let u = sg * x[3];
+        let segments = self.wheel(side).segments();
+        let piece = if pair.wheel_curve.contains(u, DOMAIN_TOL_M) {
+            segment
+        } else {
+            segments
+                .iter()
+                .position(|s| s.curve.contains(u, DOMAIN_TOL_M))?
+        };
         let rail_ok = pair.rail.head().contains(sg * x[1], DOMAIN_TOL_M);
-        if !(wheel_ok && rail_ok && x[2].abs() < MAX_S_WHEEL_RAD) {
+        if !(rail_ok && x[2].abs() < MAX_S_WHEEL_RAD) {
             return None;
         }
         let wheel = pair.wheel;
         let rail = pair.rail;
-        Some(from_eval(
+        let cand = from_eval(
             side,
-            zone,
-            segment,
+            segments[piece].zone,
+            piece,
             SurfaceParams::from_vector(&x),
             c.iterations,
             cold,
@@ -309,6 +420,13 @@ impl WheelsetContactModel {
             self.placement.inclination_rad,
             |u, z| wheel.to_file_m(u, z),
             |u, z| rail.to_file_m(u, z),
-        ))
+        );
+        cand.is_gap_minimum().then_some(cand)
     }
+}
+
+/// True when `a` and `b` are the same contact ([`DUPLICATE_M`]).
+pub(crate) fn same_contact(a: &Candidate, b: &Candidate) -> bool {
+    (a.wheel_point - b.wheel_point).norm() < DUPLICATE_M
+        && (a.rail_point - b.rail_point).norm() < DUPLICATE_M
 }

@@ -1,6 +1,6 @@
 //! The centre of a contact patch: the centre of gravity of the undeformed
 //! interpenetration volume of wheel and rail
-//! (docs/reference/06-contact-detection.md §6.8).
+//! (docs/reference/06-contact-detection.md §6.9).
 //!
 //! The contact equations (§6.1) find the point of **maximum** penetration.
 //! Where the gap between the profiles is quadratic (Hertzian) the
@@ -17,7 +17,7 @@
 //! `s_r`, along the deepest point's normal, as a function of the
 //! coordinate along the patch's tangent, for the wheel's section at the
 //! candidate's angle `s_w` (its lead for a yawed wheelset); each lateral
-//! strip weighs z^{3/2}, its overlap volume (§6.8).
+//! strip weighs z^{3/2}, its overlap volume (§6.9).
 
 use super::candidate::Candidate;
 use super::geometry::SurfaceParams;

@@ -5,7 +5,7 @@
 
 use super::candidate::Candidate;
 use super::geometry::SurfaceParams;
-use super::model::WheelsetContactModel;
+use super::model::{WheelsetContactModel, same_contact};
 use super::{ContactError, WheelsetPose};
 use crate::geometry::profile::{MAX_SEGMENTS, Zone};
 use crate::geometry::track::{Side, TrackTables};
@@ -89,8 +89,19 @@ impl Default for ContactOptions {
     }
 }
 
-/// The candidates of one wheelset: for each wheel (left, right) one slot
-/// per piece of its profile.
+/// The candidates of one wheelset: for each wheel (left, right) up to
+/// [`MAX_SEGMENTS`] slots, one per patch — a minimum of the gap between the
+/// wheel and its rail, in contact or not (docs/reference/06-contact-detection.md §6.7). A slot is not a
+/// piece of the profile: a piece may hold several patches (S1002 on UIC60
+/// around 5 mm of lateral shift touches with its tread and its flange root),
+/// and [`Candidate::segment`] names the piece a patch lies on. Each patch is
+/// listed once.
+///
+/// Slot order: after a fresh search (quasi-static solves, and the first solve
+/// of a run) the deepest patch of each wheel comes first; during time
+/// stepping ([`ContactOptions::reuse_clear_pieces`]) a patch keeps its slot
+/// from step to step while it is followed, and a new patch takes the first
+/// free slot.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct WheelsetContacts {
     pub candidates: [[Option<Candidate>; MAX_SEGMENTS]; 2],
@@ -127,20 +138,25 @@ pub struct SolverStats {
     pub solves: u64,
     /// Newton iterations over all solves.
     pub iterations: u64,
-    /// Solves that needed the coarse search.
+    /// Searches of a piece (the coarse search, then Newton from every
+    /// stationary point it finds).
     pub cold_starts: u64,
     /// Flange pieces skipped by the `auto` rule or `off`.
     pub flange_skipped: u64,
     /// Contacts taken from the minimisation fallback.
     pub minimisations: u64,
-    /// Pieces not searched again because they were found clear (no
-    /// stationary point) and the wheel has hardly moved since
-    /// (see `Clear` in the solver's source).
+    /// Pieces without a patch not searched again during time stepping
+    /// because the wheel has hardly moved since their last search (see
+    /// `Searched` in the solver's source).
     pub clear_skipped: u64,
 }
 
+/// A patch remembered from the previous solve.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Warm {
+    /// The piece it lay on.
+    segment: usize,
+    zone: Zone,
     params: SurfaceParams,
     /// Rail arc length at the wheelset's track position when solved.
     rail_l_m: f64,
@@ -223,34 +239,45 @@ fn wheel_position(
     })
 }
 
-/// A piece found without contact of its own (no stationary point on it):
-/// where the wheel was then. It is searched again only when the wheel has
-/// moved relative to its rail by more than [`CLEAR_RECHECK_M`] laterally,
-/// vertically, [`CLEAR_RECHECK_RAD`] in yaw or roll, or
-/// [`CLEAR_RECHECK_ALONG_M`] along the track — a cold search costs about
-/// 100 µs, a Newton solve about 1 µs.
+/// Where the wheel was when a piece was last searched (time stepping). The
+/// piece is searched again only when the wheel has moved relative to its
+/// rail by more than [`CLEAR_RECHECK_M`] laterally or vertically,
+/// [`CLEAR_RECHECK_RAD`] in yaw or roll, or [`CLEAR_RECHECK_ALONG_M`] along
+/// the track, or when a patch followed on it is lost; in between, its
+/// patches are followed by warm start (a Newton solve, about 1 µs, where a
+/// search costs tens of µs) and a piece found without any stays clear.
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Clear {
+struct Searched {
     at: WheelPosition,
     s_track_m: f64,
 }
 
-/// Lateral motion of a wheel after which a clear piece is searched again
-/// (m). The pieces this applies to have no stationary point at all; one
-/// appears only when the wheel moves so that the piece faces the rail, a
-/// motion of millimetres for a flange root, so 0.2 mm is conservative.
+/// Lateral motion of a wheel after which a piece is searched again (m). A
+/// patch appears on a piece only when the wheel moves so that the piece
+/// faces the rail or a second minimum of the gap forms on it, a motion of
+/// millimetres (S1002's flange root takes over between 5 and 7 mm of shift),
+/// so 0.2 mm is conservative.
 const CLEAR_RECHECK_M: f64 = 2e-4;
-/// Yaw change after which a clear piece is searched again (rad).
+/// Yaw or roll change after which a piece is searched again (rad).
 const CLEAR_RECHECK_RAD: f64 = 5e-4;
-/// Travel along the track after which a clear piece is searched again (m).
+/// Travel along the track after which a piece is searched again (m).
 /// The lateral and vertical measures above are taken against the rail's
 /// actual position, so alignment and level irregularities are already
 /// watched; this bound covers what they do not (changes of the rail's
 /// roll, a curve's frame turning), which vary over metres.
 const CLEAR_RECHECK_ALONG_M: f64 = 2.0;
 
-impl Clear {
-    fn still_clear(&self, now: &WheelPosition, s_track_m: f64) -> bool {
+/// Largest gap (m) of a patch other than the deepest of its piece that is
+/// kept (and followed during time stepping) although not in contact: a
+/// second minimum of the gap this close to the rail comes into contact with
+/// a fraction of a millimetre of further motion, and following it costs one
+/// Newton solve per step where a search costs tens of µs. The deepest
+/// minimum of each piece is kept whatever its gap (the flange rule and the
+/// settling use it).
+pub const SECOND_PATCH_GAP_M: f64 = 5e-4;
+
+impl Searched {
+    fn still_valid(&self, now: &WheelPosition, s_track_m: f64) -> bool {
         (now.approach_m - self.at.approach_m).abs() < CLEAR_RECHECK_M
             && (now.vertical_m - self.at.vertical_m).abs() < CLEAR_RECHECK_M
             && (now.yaw_rad - self.at.yaw_rad).abs() < CLEAR_RECHECK_RAD
@@ -270,9 +297,14 @@ pub(crate) fn si(side: Side) -> usize {
 #[derive(Debug, Clone, PartialEq)]
 pub struct ContactSolver {
     pub options: ContactOptions,
+    /// The patches of the last solve, by slot.
     warm: [[Option<Warm>; MAX_SEGMENTS]; 2],
-    clear: [[Option<Clear>; MAX_SEGMENTS]; 2],
+    /// Each piece's last search, by piece.
+    searched: [[Option<Searched>; MAX_SEGMENTS]; 2],
     pub stats: SolverStats,
+    /// Working list of the patches found for a wheel (empty between calls;
+    /// kept so that a step allocates nothing).
+    scratch: Vec<(Option<usize>, Candidate)>,
 }
 
 impl ContactSolver {
@@ -280,15 +312,16 @@ impl ContactSolver {
         Self {
             options,
             warm: Default::default(),
-            clear: Default::default(),
+            searched: Default::default(),
             stats: SolverStats::default(),
+            scratch: Vec::with_capacity(4 * MAX_SEGMENTS),
         }
     }
 
     /// Forget the previous solutions (the next solve starts cold).
     pub fn reset(&mut self) {
         self.warm = Default::default();
-        self.clear = Default::default();
+        self.searched = Default::default();
     }
 
     /// Whether the `auto` rule asks for the flange pieces of `side`.
@@ -300,11 +333,10 @@ impl ContactSolver {
         }
         let margin = self.options.auto_margin_m;
         let wheel = model.wheel(side);
-        let flange_warm = wheel
-            .segments()
+        let flange_warm = self.warm[si(side)]
             .iter()
-            .zip(&self.warm[si(side)])
-            .any(|(seg, w)| seg.zone == Zone::Flange && w.is_some_and(|w| w.gap_m < margin));
+            .flatten()
+            .any(|w| w.zone == Zone::Flange && w.gap_m < margin);
         if flange_warm {
             return true;
         }
@@ -313,8 +345,21 @@ impl ContactSolver {
         w.approach_m + reach >= self.options.flange_clearance_m[si(side)] - margin
     }
 
-    /// Solve every piece of both wheels for `pose` (paper Fig. 8 step b),
-    /// keeping the surface parameters for the next call (step f).
+    /// Find every patch of both wheels for `pose` (paper Fig. 8 step b),
+    /// keeping the surface parameters for the next call (step f); see
+    /// docs/reference/06-contact-detection.md §6.7.
+    ///
+    /// * Quasi-static (`reuse_clear_pieces` off, the default): every piece is
+    ///   searched afresh, so the result depends on the pose only — never on
+    ///   the poses solved before.
+    /// * Time stepping (`reuse_clear_pieces` on): each patch of the last
+    ///   solve is followed by warm start, and a piece is searched again only
+    ///   when the wheel has moved (see `Searched`) or a patch on it is lost.
+    ///
+    /// Of the minima of the gap found, each patch is kept once
+    /// ([`super::DUPLICATE_M`]): every patch in contact, the deepest of
+    /// each piece, and others within [`super::SECOND_PATCH_GAP_M`] of the rail. An
+    /// error when a wheel has more patches in contact than slots.
     pub fn solve(
         &mut self,
         model: &WheelsetContactModel,
@@ -322,55 +367,278 @@ impl ContactSolver {
         pose: &WheelsetPose,
     ) -> Result<WheelsetContacts, ContactError> {
         let mut out = WheelsetContacts::default();
+        let stepping = self.options.reuse_clear_pieces;
         for side in Side::BOTH {
+            let i = si(side);
             let l_now = track.centerline.rail_l(side, pose.s_track_m)?;
             let position = wheel_position(model, track, pose, side)?;
             let flange = self.flange_needed(model, &position, side);
-            for (k, seg) in model.wheel(side).segments().iter().enumerate() {
+            let segments = model.wheel(side).segments();
+            // (slot followed from the last solve, patch)
+            let mut found = std::mem::take(&mut self.scratch);
+            found.clear();
+            let mut lost = [false; MAX_SEGMENTS];
+            // Patches on flange pieces the rule does not search now: kept
+            // in memory, not reported.
+            let mut parked = [false; MAX_SEGMENTS];
+            if stepping {
+                for (slot, park) in parked.iter_mut().enumerate() {
+                    let Some(w) = self.warm[i][slot] else {
+                        continue;
+                    };
+                    if w.zone == Zone::Flange && !flange {
+                        *park = true;
+                        continue;
+                    }
+                    let guess = w.guess(l_now);
+                    let (c, iterations) =
+                        model.follow(track, pose, side, w.segment, guess, &self.options);
+                    self.stats.solves += 1;
+                    self.stats.iterations += u64::from(iterations);
+                    match c {
+                        Some(c) => found.push((Some(slot), c)),
+                        None => lost[w.segment] = true,
+                    }
+                }
+            }
+            for (k, seg) in segments.iter().enumerate() {
                 if seg.zone == Zone::Flange && !flange {
                     self.stats.flange_skipped += 1;
                     continue;
                 }
-                let clear = &mut self.clear[si(side)][k];
-                if self.options.reuse_clear_pieces
-                    && self.warm[si(side)][k].is_none()
-                    && clear.is_some_and(|c| c.still_clear(&position, pose.s_track_m))
+                if stepping
+                    && !lost[k]
+                    && self.searched[i][k].is_some_and(|c| c.still_valid(&position, pose.s_track_m))
                 {
-                    self.stats.clear_skipped += 1;
+                    if !found.iter().any(|(_, c)| c.segment == k) {
+                        self.stats.clear_skipped += 1;
+                    }
                     continue;
                 }
-                *clear = None;
-                let warm = &mut self.warm[si(side)][k];
-                let guess = warm.map(|w| w.guess(l_now));
-                let result = model.solve_pair(track, pose, side, k, guess, &self.options)?;
+                let patches = model.search_piece(track, pose, side, k, &self.options)?;
+                self.searched[i][k] = Some(Searched {
+                    at: position,
+                    s_track_m: pose.s_track_m,
+                });
                 self.stats.solves += 1;
-                if let Some(c) = &result {
-                    if c.method == super::SolveMethod::Minimisation {
-                        self.stats.minimisations += 1;
-                    }
+                self.stats.cold_starts += 1;
+                if let Some(c) = patches.first() {
                     self.stats.iterations += u64::from(c.iterations);
-                    if c.cold_start {
-                        self.stats.cold_starts += 1;
-                    }
-                    let previous = warm
-                        .filter(|_| !c.cold_start)
-                        .map(|w| (w.params, w.rail_l_m));
-                    *warm = Some(Warm {
-                        params: c.params,
-                        rail_l_m: l_now,
-                        gap_m: -c.penetration_m,
-                        previous,
-                    });
-                } else {
-                    *warm = None;
-                    self.clear[si(side)][k] = Some(Clear {
-                        at: position,
-                        s_track_m: pose.s_track_m,
-                    });
                 }
-                out.candidates[si(side)][k] = result;
+                found.extend(patches.into_iter().map(|c| (None, c)));
             }
+            keep(&mut found, side, |a, b| model.separated(track, pose, a, b))?;
+            // Slots: a followed patch keeps its own, the others fill the free
+            // ones, deepest first.
+            let mut taken = parked;
+            for (slot, _) in &found {
+                if let Some(k) = slot {
+                    taken[*k] = true;
+                }
+            }
+            let mut assigned: [Option<usize>; MAX_SEGMENTS] = [None; MAX_SEGMENTS];
+            for (n, (slot, c)) in found.iter().enumerate() {
+                let k = match slot {
+                    Some(k) => Some(*k),
+                    None => {
+                        let free = (0..MAX_SEGMENTS).find(|&k| !taken[k]);
+                        if let Some(k) = free {
+                            taken[k] = true;
+                        }
+                        free
+                    }
+                };
+                match k {
+                    Some(k) => assigned[k] = Some(n),
+                    // Surplus gaps are not patches (see `keep`).
+                    None if !c.in_contact() => {}
+                    None => {
+                        return Err(ContactError::TooManyPatches {
+                            side,
+                            capacity: MAX_SEGMENTS,
+                        });
+                    }
+                }
+            }
+            for k in 0..MAX_SEGMENTS {
+                if parked[k] {
+                    continue;
+                }
+                let Some(n) = assigned[k] else {
+                    self.warm[i][k] = None;
+                    continue;
+                };
+                let (followed, c) = &found[n];
+                if c.method == super::SolveMethod::Minimisation {
+                    self.stats.minimisations += 1;
+                }
+                let previous = self.warm[i][k]
+                    .filter(|_| followed.is_some())
+                    .map(|w| (w.params, w.rail_l_m));
+                self.warm[i][k] = Some(Warm {
+                    segment: c.segment,
+                    zone: c.zone,
+                    params: c.params,
+                    rail_l_m: l_now,
+                    gap_m: -c.penetration_m,
+                    previous,
+                });
+                out.candidates[i][k] = Some(*c);
+            }
+            found.clear();
+            self.scratch = found;
         }
         Ok(out)
+    }
+}
+
+/// The patches of one wheel to report, from the minima found (followed ones
+/// first): each once ([`same_contact`], the first found kept); of the ones in
+/// contact, deepest first, those not `separated` from a deeper one dropped
+/// (one connected overlap is one patch); then every remaining one in
+/// contact, the deepest of each piece, and the others within
+/// [`super::SECOND_PATCH_GAP_M`]; at most [`MAX_SEGMENTS`], deepest first (an error
+/// when patches in contact would be dropped; surplus gaps are not patches
+/// and are dropped).
+fn keep(
+    found: &mut Vec<(Option<usize>, Candidate)>,
+    side: Side,
+    separated: impl Fn(&Candidate, &Candidate) -> bool,
+) -> Result<(), ContactError> {
+    let mut n = 0;
+    while n < found.len() {
+        if found[..n].iter().any(|(_, u)| same_contact(u, &found[n].1)) {
+            found.remove(n);
+        } else {
+            n += 1;
+        }
+    }
+    found.sort_by(|a, b| b.1.penetration_m.total_cmp(&a.1.penetration_m));
+    let mut n = 0;
+    while n < found.len() {
+        let c = &found[n].1;
+        if c.in_contact() && found[..n].iter().any(|(_, d)| !separated(d, c)) {
+            found.remove(n);
+        } else {
+            n += 1;
+        }
+    }
+    let mut deepest = [f64::NEG_INFINITY; MAX_SEGMENTS];
+    for (_, c) in found.iter() {
+        if let Some(d) = deepest.get_mut(c.segment) {
+            *d = d.max(c.penetration_m);
+        }
+    }
+    found.retain(|(_, c)| {
+        c.in_contact()
+            || -c.penetration_m < SECOND_PATCH_GAP_M
+            || deepest.get(c.segment).is_none_or(|&d| c.penetration_m >= d)
+    });
+    if found.len() > MAX_SEGMENTS {
+        if found[MAX_SEGMENTS].1.in_contact() {
+            return Err(ContactError::TooManyPatches {
+                side,
+                capacity: MAX_SEGMENTS,
+            });
+        }
+        found.truncate(MAX_SEGMENTS);
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+#[cfg(feature = "fixtures")] // the shared S1002/UIC60 wheelset
+mod tests {
+    use super::*;
+    use crate::contact::quasi_static::{Support, settle};
+    use crate::fixtures::wheelsets::{flange_solver, s1002_uic60, straight_track_for};
+
+    /// A real tread contact, moved `dy_m` across and set to `penetration_m`
+    /// on piece `segment`.
+    fn patch(dy_m: f64, penetration_m: f64, segment: usize) -> Candidate {
+        let model = s1002_uic60().unwrap();
+        let track = straight_track_for(&model, 20.0);
+        let st = settle(
+            &model,
+            &track,
+            10.0,
+            0.0,
+            0.0,
+            Support::Rigid,
+            &mut flange_solver(),
+        )
+        .unwrap();
+        let mut c = *st.main_contact(Side::Left).unwrap();
+        c.wheel_point.y += dy_m;
+        c.rail_point.y += dy_m;
+        c.penetration_m = penetration_m;
+        c.segment = segment;
+        c
+    }
+
+    fn kept(
+        found: &[(Option<usize>, Candidate)],
+        separated: bool,
+    ) -> Result<Vec<(Option<usize>, f64)>, ContactError> {
+        let mut v = found.to_vec();
+        keep(&mut v, Side::Left, |_, _| separated)?;
+        Ok(v.iter().map(|(s, c)| (*s, c.penetration_m)).collect())
+    }
+
+    /// The same contact found twice (within 0.1 mm) is kept once, the first
+    /// found (a followed patch before a search's).
+    #[test]
+    fn a_patch_found_twice_is_kept_once() {
+        let a = patch(0.0, 1e-5, 0);
+        let b = patch(5e-5, 1.1e-5, 1);
+        let v = kept(&[(Some(3), a), (None, b)], true).unwrap();
+        assert_eq!(v, vec![(Some(3), 1e-5)]);
+        let c = patch(2e-4, 1.1e-5, 0);
+        assert_eq!(kept(&[(Some(3), a), (None, c)], true).unwrap().len(), 2);
+    }
+
+    /// Two minima in contact are two patches only when their overlaps are
+    /// separate; joined, the deepest stays.
+    #[test]
+    fn joined_minima_are_one_patch() {
+        let found = [(None, patch(0.0, 1e-5, 0)), (None, patch(0.01, 2e-5, 0))];
+        assert_eq!(
+            kept(&found, true).unwrap(),
+            vec![(None, 2e-5), (None, 1e-5)]
+        );
+        assert_eq!(kept(&found, false).unwrap(), vec![(None, 2e-5)]);
+    }
+
+    /// Gaps: the deepest of each piece stays, others only within
+    /// `SECOND_PATCH_GAP_M`.
+    #[test]
+    fn gaps_beside_a_patch() {
+        let found = [
+            (None, patch(0.0, 1e-5, 0)),
+            (None, patch(0.01, -4e-4, 0)),
+            (None, patch(0.02, -6e-4, 0)),
+            (None, patch(0.03, -3e-3, 1)),
+        ];
+        assert_eq!(
+            kept(&found, true).unwrap(),
+            vec![(None, 1e-5), (None, -4e-4), (None, -3e-3)]
+        );
+    }
+
+    /// More patches in contact than slots is an error naming the wheel;
+    /// surplus gaps are dropped.
+    #[test]
+    fn more_patches_than_slots() {
+        let mut found: Vec<(Option<usize>, Candidate)> = (0..=MAX_SEGMENTS)
+            .map(|k| (None, patch(0.01 * k as f64, 1e-5 * (k + 1) as f64, 0)))
+            .collect();
+        let e = kept(&found, true).unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("left wheel touches its rail in more than 6"),
+            "{e}"
+        );
+        found[0].1.penetration_m = -1e-5;
+        assert_eq!(kept(&found, true).unwrap().len(), MAX_SEGMENTS);
     }
 }

@@ -87,7 +87,8 @@
 //! # Committing the memory (one per contact slot, accepted steps only)
 //!
 //! The simulator keeps one [`ContactMemory`] per wheel–rail contact slot
-//! (side × tread/flange). [`NormalForceModel::evaluate`] is pure: it returns
+//! (side × patch slot, [`crate::contact::WheelsetContacts`]).
+//! [`NormalForceModel::evaluate`] is pure: it returns
 //! the force and the memory that *would* follow, and the caller commits
 //! `next_memory` only for **accepted** states, never from trial stages of a
 //! Runge–Kutta step or from a rejected adaptive step. The protocol used by
@@ -228,7 +229,7 @@ pub enum ContactPhase {
 }
 
 /// Per-contact state carried between accepted steps: one per wheel–rail
-/// contact slot (side × tread/flange), committed only on accepted states
+/// contact slot (side × patch slot), committed only on accepted states
 /// (module docs). `Default` is "not in contact".
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct ContactMemory {

@@ -23,7 +23,7 @@
 //! [`PatchLocation::Centre`] (the default of `sim contact`) at its
 //! **centre**, the centroid of the undeformed interpenetration volume
 //! ([`crate::contact::patch_centre`], docs/reference/06-contact-detection.md
-//! §6.8), as CONTACT reports its contact reference location; the normal
+//! §6.9), as CONTACT reports its contact reference location; the normal
 //! force and the Hertz ellipse come from the deepest point (δ and the
 //! curvatures of the gap's minimum, the quadratic expansion Hertz's theory
 //! is built on), the contact frame, position and creepages from the centre.
@@ -87,7 +87,7 @@ impl std::str::FromStr for LoadConvention {
 }
 
 /// Where each patch's position, contact frame and creepages are taken
-/// (docs/reference/06-contact-detection.md §6.8).
+/// (docs/reference/06-contact-detection.md §6.9).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum PatchLocation {
     /// The centroid of the patch's undeformed interpenetration volume

@@ -105,7 +105,7 @@ pub struct ContactReport {
     pub force_error: Option<String>,
     /// Lateral width of the patch's undeformed interpenetration (m), over
     /// which its centre is taken (docs/reference/06-contact-detection.md
-    /// §6.8); null for rigid contact.
+    /// §6.9); null for rigid contact.
     pub overlap_width_m: Option<f64>,
 }
 

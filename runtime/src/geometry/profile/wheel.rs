@@ -22,8 +22,11 @@
 //!    (usually one).
 //!
 //! Each piece is thus convex except for concave stretches milder than the
-//! throat limit, which is what the Newton search needs (at most one contact
-//! per piece with a convex rail head). A profile that cannot be split into
+//! throat limit, which is what the Newton search needs. A piece can still
+//! hold several minima of the gap where its concave stretches meet rail
+//! arcs of another radius (S1002's tread and flange root on UIC60 around
+//! 5 mm of shift): the contact search returns every one of them
+//! (docs/reference/06-contact-detection.md §6.7). A profile that cannot be split into
 //! at most [`MAX_SEGMENTS`] pieces (a noisy or badly worn measurement) is an
 //! error; a rail head must be convex everywhere ([`super::RailProfile`]).
 //!
@@ -33,8 +36,8 @@
 //! (the classic jump to flange contact), and worn profiles (EN 15302's
 //! profile H) have kinks on the tread: dropping those stretches would leave
 //! the wheel unsupported. Splitting at the most concave point keeps each
-//! function's Newton search well posed — each piece has at most one contact
-//! with a rail head — while no part of the profile is lost. Whether a
+//! function's Newton search well posed while no part of the profile is
+//! lost. Whether a
 //! contact on a concave stretch is Hertzian is then decided by its relative
 //! curvature ([`crate::forces::hertz`]).
 //!
