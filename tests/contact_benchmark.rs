@@ -29,7 +29,7 @@ fn a22_args() -> Vec<String> {
         "--mu",
         "0.3",
         "--creep",
-        "fastsim",
+        "fastrip",
     ]
     .iter()
     .map(|s| s.to_string())
@@ -106,12 +106,21 @@ fn a22_runs_from_the_shipped_poses_file() {
 /// near-conformal poses listed in `NEAR_CONFORMAL`, where the gap is nearly
 /// flat over millimetres and the patch centre (ours and CONTACT's, both the
 /// centroid of the interpenetration, ours of one Hertzian approach δ) moves
-/// with small differences in the overlap: 3 mm and 12 mrad there; lateral creep
-/// force F_s within 12 % where it exceeds 10 % of μN, outside those poses.
+/// with small differences in the overlap, and the right wheel of case 11,
+/// where we find two patches (tread and flange root) and CONTACT reports
+/// one (it combines regions closer than 4 mm), compared with our main
+/// patch: 3 mm and 12 mrad there; lateral creep
+/// force F_s (summed over a wheel's patches) within 12 % where it exceeds
+/// 10 % of μN, outside those poses.
 #[test]
 fn a22_agrees_with_contact_published_results() {
-    const NEAR_CONFORMAL: [(u32, &str); 4] =
-        [(1, "left"), (1, "right"), (2, "right"), (3, "right")];
+    const NEAR_CONFORMAL: [(u32, &str); 5] = [
+        (1, "left"),
+        (1, "right"),
+        (2, "right"),
+        (3, "right"),
+        (11, "right"),
+    ];
     let ours = a22_rows();
     let text = std::fs::read_to_string(shipped("contact/mbench_a22_contact_reference.csv"))
         .expect("reference");
@@ -158,8 +167,8 @@ fn a22_agrees_with_contact_published_results() {
             worst[1] = worst[1].max(dy);
             worst[2] = worst[2].max(da);
             let fs_ref = num(r, "fs_n");
-            if mine.len() == 1 && fs_ref.abs() > 0.1 * 0.3 * fn_ref {
-                let fs = num(deepest, "fs_n");
+            if fs_ref.abs() > 0.1 * 0.3 * fn_ref {
+                let fs: f64 = mine.iter().map(|o| num(o, "fs_n")).sum();
                 let e = (fs - fs_ref).abs() / fs_ref.abs();
                 assert!(e < 0.12, "case {case} {side}: Fs {fs:.0} vs {fs_ref:.0} N");
                 worst[3] = worst[3].max(e);
