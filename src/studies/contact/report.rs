@@ -68,7 +68,9 @@ pub struct ContactReport {
     pub lead_m: f64,
     /// Rail arc length of the contact, relative to the wheelset's section (m).
     pub s_rail_m: f64,
-    /// Principal curvatures (1/m), convex positive.
+    /// Principal curvatures (1/m), convex positive, at the deepest point
+    /// (those the Hertz ellipse uses, also when the patch is reported at its
+    /// centre).
     pub wheel_rolling_curvature_1_m: f64,
     pub wheel_lateral_curvature_1_m: f64,
     pub rail_rolling_curvature_1_m: f64,
@@ -220,6 +222,13 @@ fn patch_report(
     // Position, frame and angle where the patch is: its centre (the
     // penetration reported is the deepest point's δ either way).
     let mut r = geometry_report(setup, k as u32 + 1, &p.centre);
+    // The curvatures the Hertz ellipse and the normal force use: those of
+    // the gap's minimum, the deepest point (docs/reference/06-contact-detection.md §6.9).
+    let deepest = &p.candidate.curvatures;
+    r.wheel_rolling_curvature_1_m = deepest.wheel_rolling_1_m;
+    r.wheel_lateral_curvature_1_m = deepest.wheel_lateral_1_m;
+    r.rail_rolling_curvature_1_m = deepest.rail_rolling_1_m;
+    r.rail_lateral_curvature_1_m = deepest.rail_lateral_1_m;
     r.overlap_width_m = p.overlap_width_m;
     r.normal_n = p.normal_n;
     r.vertical_n = p.force_on_wheel_n.dot(up);
