@@ -1043,12 +1043,12 @@ mod tests {
                 elements_per_strip: 32
             })
         );
-        let e = LoadedScene::default_scene(&[
+        let Err(e) = LoadedScene::default_scene(&[
             "contact.creep_law=fastrip".into(),
             "contact.fastrip_strips=0".into(),
-        ])
-        .err()
-        .expect("refused");
+        ]) else {
+            panic!("fastrip_strips = 0 must be refused");
+        };
         let text = format!("{e:#}");
         assert!(
             text.contains("FaStrip") && text.contains("strips"),

@@ -22,7 +22,7 @@
 //! Where a patch is: at the deepest point by default; with
 //! [`PatchLocation::Centre`] (the default of `sim contact`) at its
 //! **centre**, the centroid of the undeformed interpenetration volume
-//! ([`crate::contact::patch_centre`], docs/reference/06-contact-detection.md
+//! ([`crate::contact::patch_centre()`], docs/reference/06-contact-detection.md
 //! §6.9), as CONTACT reports its contact reference location; the normal
 //! force and the Hertz ellipse come from the deepest point (δ and the
 //! curvatures of the gap's minimum, the quadratic expansion Hertz's theory
