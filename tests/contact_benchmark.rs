@@ -101,8 +101,9 @@ fn a22_runs_from_the_shipped_poses_file() {
 
 /// CONTACT's published results (exact theory on a 0.2 mm grid) against
 /// ours, mapped to our axes as tables/contact/README.md says. Tolerances
-/// (docs/guide/contact-benchmark.md): normal force 2 % on every wheel of
-/// every pose; contact point 0.5 mm and contact angle 5 mrad except on the
+/// (docs/guide/contact-benchmark.md): normal force 2 %, longitudinal
+/// position of the contact 0.1 mm and the wheelset's height 0.01 mm on
+/// every wheel of every pose; contact point 0.5 mm and contact angle 5 mrad except on the
 /// near-conformal poses listed in `NEAR_CONFORMAL`, where the gap is nearly
 /// flat over millimetres and the patch centre (ours and CONTACT's, both the
 /// centroid of the interpenetration, ours of one Hertzian approach δ) moves
@@ -146,6 +147,20 @@ fn a22_agrees_with_contact_published_results() {
         );
         worst[0] = worst[0].max(fn_err);
         let deepest = mine[0];
+        // The pose itself, on every wheel: the point's longitudinal position
+        // (the yawed wheel's lead) to 0.1 mm, and the height at which the
+        // wheel carries its 10 kN to 0.01 mm (CONTACT's Z_WS: down from the
+        // nominal height 460 mm).
+        let dx = (num(deepest, "x_tr_mm") - num(r, "xcp_tr_mm")).abs();
+        assert!(
+            dx < 0.1,
+            "case {case} {side}: x_tr {dx:.3} mm from CONTACT's"
+        );
+        let dz = (num(deepest, "z_ws_mm") - 460.0 + num(r, "z_ws_mm")).abs();
+        assert!(
+            dz < 0.01,
+            "case {case} {side}: height {dz:.4} mm from CONTACT's"
+        );
         let dy = (num(deepest, "y_tr_mm") + num(r, "ycp_tr_mm")).abs();
         let da = (num(deepest, "contact_angle_rad") - sign * num(r, "deltcp_tr_rad")).abs();
         let near_conformal = NEAR_CONFORMAL.contains(&(case, side));
