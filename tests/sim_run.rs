@@ -80,6 +80,13 @@ fn wheelset_hunts_with_the_klingel_wavelength_at_10_m_s() {
         ],
     );
     let r = read_results(&out).expect("results file");
+    // Every sample carries the wheelset's track position s: the scene's
+    // start (initial.s_m = 5 m) plus the distance travelled.
+    let w = &r.wheelsets[0];
+    assert_eq!(w.track_s_m.len(), r.time_s.len());
+    for (s, d) in w.track_s_m.iter().zip(&w.distance_m) {
+        assert!((s - d - 5.0).abs() < 1e-9, "track s {s} vs distance {d}");
+    }
     let l = wavelength_m(&r);
     // Measured 15.83 m (−0.8 %): the wheelset's roll and the gravitational
     // stiffness shorten the kinematic wavelength slightly.

@@ -77,6 +77,7 @@ fn synthetic(n: usize) -> RunResults {
                     roll_rad: -1e-4 * t,
                     distance_m: 36.0 * t,
                     speed_m_s: 36.0,
+                    track_s_m: 12.5 + 36.0 * t,
                     wheels: [wheel(0), wheel(1)],
                 }
             })
@@ -247,6 +248,7 @@ fn results_h5dump_shows_the_layout() {
         "DATASET \"lead_m\"",
         "DATASET \"fallback\"",
         "DATASET \"y_over_q\"",
+        "DATASET \"track_s_m\"",
         "ATTRIBUTE \"units\"",
         "ATTRIBUTE \"description\"",
         // Extendable: 20 samples now, no fixed maximum.
@@ -258,8 +260,9 @@ fn results_h5dump_shows_the_layout() {
     }
     // Every wheel has 2 zones × 15 datasets (in_contact, 13 values,
     // fallback) + 5 (travelled_m, flange_contact, y_n, q_n, y_over_q): 35
-    // per wheel, 70 + 5 per wheelset, plus time_s and scene.
-    assert_eq!(text.matches("DATASET \"").count(), 2 * (5 + 2 * 35) + 2);
+    // per wheel, 70 + 6 per wheelset (lateral_m, yaw_rad, roll_rad,
+    // distance_m, speed_m_s, track_s_m), plus time_s and scene.
+    assert_eq!(text.matches("DATASET \"").count(), 2 * (6 + 2 * 35) + 2);
 
     // The values, not just the header: schema and a units attribute.
     let out = Command::new("h5dump")
@@ -450,8 +453,9 @@ fn results_y_over_q_sign_and_old_files() {
     assert!(bad.validate().is_ok());
     assert_eq!(left.max_y_over_q(), Some(0.42));
 
-    // A version-1 file written before y_n, q_n, y_over_q, lead_m and
-    // fallback existed reads back with Y/Q recomputed from the zones.
+    // A version-1 file written before y_n, q_n, y_over_q, lead_m,
+    // fallback and track_s_m existed reads back with Y/Q recomputed from
+    // the zones.
     let dir = scratch("results_old_layout");
     let path = dir.join("old.h5");
     write_results(&path, &synthetic(6)).unwrap();
@@ -470,9 +474,15 @@ fn results_y_over_q_sign_and_old_files() {
                     z.unlink("fallback").unwrap();
                 }
             }
+            f.group(ws).unwrap().unlink("track_s_m").unwrap();
         }
     }
     let old = read_results(&path).unwrap();
+    // The track position is stored and read back; unknown (NaN) in a file
+    // from before it was stored.
+    assert_eq!(full.wheelsets[0].track_s_m[2], 12.5 + 36.0 * 0.002);
+    assert!(old.wheelsets[0].track_s_m.iter().all(|v| v.is_nan()));
+    assert_eq!(old.wheelsets[0].track_s_m.len(), old.time_s.len());
     let (a, b) = (&full.wheelsets[1].wheels[1], &old.wheelsets[1].wheels[1]);
     assert!(same_bits(&a.y_over_q, &b.y_over_q));
     assert!(same_bits(&a.q_n, &b.q_n));

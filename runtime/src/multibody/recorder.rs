@@ -147,6 +147,7 @@ impl Recorder {
                 roll_rad: r.roll_rad,
                 distance_m: r.s_m - s0,
                 speed_m_s: r.forward_speed_m_s,
+                track_s_m: r.s_m,
                 wheels,
             });
         }

@@ -179,7 +179,7 @@ pub const TIME_S: Dataset = Dataset {
 };
 
 /// The series of a wheelset, in file order.
-pub const WHEELSET_COLUMNS: [Column<WheelsetSeries, WheelsetSample>; 5] = [
+pub const WHEELSET_COLUMNS: [Column<WheelsetSeries, WheelsetSample>; 6] = [
     f64_column!(
         lateral_m,
         "m",
@@ -201,6 +201,12 @@ pub const WHEELSET_COLUMNS: [Column<WheelsetSeries, WheelsetSample>; 5] = [
         "distance travelled along the track centreline since the start"
     ),
     f64_column!(speed_m_s, "m/s", "forward speed along the track"),
+    f64_column!(
+        track_s_m,
+        "m",
+        "track position of the wheelset centre: arc length s of the track centreline at its section (NaN in files from before it was stored)",
+        added_later: true
+    ),
 ];
 
 /// The series of a wheel (its zones apart), in file order.

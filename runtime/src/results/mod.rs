@@ -64,6 +64,10 @@ pub struct WheelsetSeries {
     pub distance_m: Vec<f64>,
     /// Forward speed along the track (m/s).
     pub speed_m_s: Vec<f64>,
+    /// Track position of the wheelset centre: the centreline's arc length
+    /// s at the wheelset's section (m), as the track tables and the track
+    /// files count it; NaN in files written before it was stored.
+    pub track_s_m: Vec<f64>,
     /// `[left, right]`, facing the direction of travel.
     pub wheels: [WheelSeries; 2],
 }
@@ -213,6 +217,7 @@ pub struct WheelsetSample {
     pub roll_rad: f64,
     pub distance_m: f64,
     pub speed_m_s: f64,
+    pub track_s_m: f64,
     /// `[left, right]`.
     pub wheels: [WheelSample; 2],
 }

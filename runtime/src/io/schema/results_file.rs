@@ -22,6 +22,8 @@
 //!     roll_rad                   roll relative to the track, + raising the left wheel (rad)
 //!     distance_m                 distance travelled along the track centreline since the start (m)
 //!     speed_m_s                  forward speed along the track (m/s)
+//!     track_s_m                  track position of the wheelset centre: the centreline's
+//!                                arc length s at its section (m; NaN in older files)
 //!     left/  right/              the two wheels (left/right facing the direction of travel)
 //!         travelled_m            1-D f64 [n], distance travelled by the wheel along its rail:
 //!                                the contact point's rail arc length since the start (m)
@@ -369,8 +371,11 @@ pub fn read_results(path: &Path) -> Result<RunResults, SchemaError> {
         let mut ws = WheelsetSeries::new(attrs::read_str(path, &g, &what, "name")?);
         let len = time_s.len();
         let missing = read_columns(path, &g, &WHEELSET_COLUMNS, &mut ws, n)?;
-        // (No wheelset column was added later; this keeps the rule uniform.)
-        fill_columns(&mut ws, &missing, len, |_, _| WheelsetSample::default());
+        // A file from before the track position was stored: unknown (NaN).
+        fill_columns(&mut ws, &missing, len, |_, _| WheelsetSample {
+            track_s_m: f64::NAN,
+            ..WheelsetSample::default()
+        });
         for (side, (wheel, wg)) in ws.wheels.iter_mut().zip(WHEEL_GROUPS).enumerate() {
             let g = open_group(path, &g, wg)?;
             let what = format!("{what}/{wg}");
