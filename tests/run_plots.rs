@@ -71,6 +71,7 @@ fn synthetic(speed_m_s: f64, amplitude_m: f64) -> RunResults {
                     roll_rad: 0.0,
                     distance_m: s,
                     speed_m_s,
+                    track_s_m: 5.0 + s,
                     wheels: [wheel(0), wheel(1)],
                 }
             })
