@@ -174,25 +174,8 @@ pub(crate) fn from_eval(
 #[cfg(feature = "fixtures")] // the shared S1002/UIC60 wheelset
 mod tests {
     use super::*;
-    use crate::contact::quasi_static::{Support, settle};
-    use crate::fixtures::wheelsets::{flange_solver, s1002_uic60, straight_track_for};
 
-    /// The left tread contact of the centred S1002/UIC60 wheelset.
-    fn tread_contact() -> Candidate {
-        let model = s1002_uic60().unwrap();
-        let track = straight_track_for(&model, 20.0);
-        let st = settle(
-            &model,
-            &track,
-            10.0,
-            0.0,
-            0.0,
-            Support::Rigid,
-            &mut flange_solver(),
-        )
-        .unwrap();
-        *st.main_contact(Side::Left).unwrap()
-    }
+    use crate::fixtures::wheelsets::centred_s1002_left_tread as tread_contact;
 
     fn with(kw: f64, kr: f64, penetration_m: f64) -> Candidate {
         let mut c = tread_contact();

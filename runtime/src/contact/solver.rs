@@ -550,25 +550,11 @@ fn keep(
 #[cfg(feature = "fixtures")] // the shared S1002/UIC60 wheelset
 mod tests {
     use super::*;
-    use crate::contact::quasi_static::{Support, settle};
-    use crate::fixtures::wheelsets::{flange_solver, s1002_uic60, straight_track_for};
 
     /// A real tread contact, moved `dy_m` across and set to `penetration_m`
     /// on piece `segment`.
     fn patch(dy_m: f64, penetration_m: f64, segment: usize) -> Candidate {
-        let model = s1002_uic60().unwrap();
-        let track = straight_track_for(&model, 20.0);
-        let st = settle(
-            &model,
-            &track,
-            10.0,
-            0.0,
-            0.0,
-            Support::Rigid,
-            &mut flange_solver(),
-        )
-        .unwrap();
-        let mut c = *st.main_contact(Side::Left).unwrap();
+        let mut c = crate::fixtures::wheelsets::centred_s1002_left_tread();
         c.wheel_point.y += dy_m;
         c.rail_point.y += dy_m;
         c.penetration_m = penetration_m;

@@ -38,7 +38,8 @@
 use nalgebra::Vector3;
 
 use crate::contact::{
-    Candidate, ContactError, ContactSolver, WheelsetContactModel, WheelsetPose, patch_centre,
+    Candidate, ContactError, ContactSolver, WheelsetContactModel, WheelsetContacts, WheelsetPose,
+    patch_centre,
 };
 use crate::forces::hertz::HertzShape;
 use crate::geometry::track::{Side, TrackTables};
@@ -318,63 +319,87 @@ impl Context<'_> {
         pose: &WheelsetPose,
     ) -> Result<[WheelEval; 2], LoadedPoseError> {
         let contacts = solver.solve(self.model, self.track, pose)?;
-        let motion = WheelsetMotion {
+        let motion = self.motion(pose);
+        Ok([
+            self.wheel(&contacts, pose, &motion, Side::Left)?,
+            self.wheel(&contacts, pose, &motion, Side::Right)?,
+        ])
+    }
+
+    /// One wheel's contacts and forces at a pose (the other wheel's forces,
+    /// and its patch centres, are not computed: with the roll given each
+    /// wheel is solved on its own).
+    fn eval_side(
+        &self,
+        solver: &mut ContactSolver,
+        pose: &WheelsetPose,
+        side: Side,
+    ) -> Result<WheelEval, LoadedPoseError> {
+        let contacts = solver.solve(self.model, self.track, pose)?;
+        self.wheel(&contacts, pose, &self.motion(pose), side)
+    }
+
+    fn motion(&self, pose: &WheelsetPose) -> WheelsetMotion {
+        WheelsetMotion {
             centre_m: pose.position,
             velocity_m_s: self.forward * self.input.speed_m_s,
             angular_velocity_rad_s: pose.axle() * self.axle_rate_rad_s,
             forward_speed_m_s: self.input.speed_m_s,
-        };
-        let mut out = Vec::with_capacity(2);
-        for side in Side::BOTH {
-            let cands: Vec<&Candidate> = contacts.side(side).collect();
-            if cands.is_empty() {
-                return Err(self.off_rail(side));
-            }
-            let deepest_m = cands
-                .iter()
-                .map(|c| c.penetration_m)
-                .fold(f64::NEG_INFINITY, f64::max);
-            let mut patches = Vec::new();
-            let mut k_ref = 0.0;
-            let mut best = f64::NEG_INFINITY;
-            for c in cands {
-                let (patch, k) = self.patch(c, pose, &motion)?;
-                let cos = patch.centre.normal.dot(&self.up).max(1e-3);
-                let weight = if c.in_contact() {
-                    patch.normal_n * cos
-                } else {
-                    c.penetration_m
-                };
-                if weight > best {
-                    best = weight;
-                    k_ref = k * cos;
-                }
-                if c.in_contact() {
-                    patches.push(patch);
-                }
-            }
-            patches.sort_by(|a, b| {
-                b.candidate
-                    .penetration_m
-                    .total_cmp(&a.candidate.penetration_m)
-            });
-            let vertical_n = patches
-                .iter()
-                .map(|p| match self.convention {
-                    LoadConvention::Vertical => p.force_on_wheel_n.dot(&self.up),
-                    LoadConvention::Normal => p.normal_n * p.centre.normal.dot(&self.up),
-                })
-                .sum();
-            out.push(WheelEval {
-                patches,
-                vertical_n,
-                k_ref,
-                deepest_m,
-            });
         }
-        let right = out.pop().expect("two wheels");
-        let left = out.pop().expect("two wheels");
-        Ok([left, right])
+    }
+
+    fn wheel(
+        &self,
+        contacts: &WheelsetContacts,
+        pose: &WheelsetPose,
+        motion: &WheelsetMotion,
+        side: Side,
+    ) -> Result<WheelEval, LoadedPoseError> {
+        let cands: Vec<&Candidate> = contacts.side(side).collect();
+        if cands.is_empty() {
+            return Err(self.off_rail(side));
+        }
+        let deepest_m = cands
+            .iter()
+            .map(|c| c.penetration_m)
+            .fold(f64::NEG_INFINITY, f64::max);
+        let mut patches = Vec::new();
+        let mut k_ref = 0.0;
+        let mut best = f64::NEG_INFINITY;
+        for c in cands {
+            let (patch, k) = self.patch(c, pose, motion)?;
+            let cos = patch.centre.normal.dot(&self.up).max(1e-3);
+            let weight = if c.in_contact() {
+                patch.normal_n * cos
+            } else {
+                c.penetration_m
+            };
+            if weight > best {
+                best = weight;
+                k_ref = k * cos;
+            }
+            if c.in_contact() {
+                patches.push(patch);
+            }
+        }
+        patches.sort_by(|a, b| {
+            b.candidate
+                .penetration_m
+                .total_cmp(&a.candidate.penetration_m)
+        });
+        let vertical_n = patches
+            .iter()
+            .map(|p| match self.convention {
+                LoadConvention::Vertical => p.force_on_wheel_n.dot(&self.up),
+                LoadConvention::Normal => p.normal_n * p.centre.normal.dot(&self.up),
+            })
+            .sum();
+        Ok(WheelEval {
+            patches,
+            vertical_n,
+            k_ref,
+            deepest_m,
+        })
     }
 
     /// A candidate's forces and its Hertz stiffness (N/m^1.5): normal force
@@ -647,8 +672,7 @@ fn solve_each_wheel(
         let residual =
             |z: f64, solver: &mut ContactSolver| -> Result<(f64, WheelEval), LoadedPoseError> {
                 let pose = ctx.pose(z, roll)?;
-                let [l, r] = ctx.eval(solver, &pose)?;
-                let e = if i == 0 { l } else { r };
+                let e = ctx.eval_side(solver, &pose, side)?;
                 Ok((e.residual_m(load), e))
             };
         let mut z = r0;

@@ -189,20 +189,7 @@ impl FastripParams {
 
     /// Checks that both divisions lie in 1 ..= [`Self::MAX_DIVISIONS`].
     pub fn validate(&self) -> Result<(), CreepError> {
-        for (parameter, n) in [
-            ("strips", self.strips),
-            ("elements_per_strip", self.elements_per_strip),
-        ] {
-            if !(1..=Self::MAX_DIVISIONS).contains(&n) {
-                return Err(CreepError::InvalidParameter {
-                    law: "FaStrip",
-                    parameter,
-                    value: n as f64,
-                    rule: "must be an integer from 1 to 2000",
-                });
-            }
-        }
-        Ok(())
+        super::fastsim::validate_divisions("FaStrip", self.strips, self.elements_per_strip)
     }
 }
 

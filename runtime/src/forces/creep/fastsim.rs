@@ -224,21 +224,31 @@ impl FastsimParams {
 
     /// Checks that both divisions lie in 1 ..= [`Self::MAX_DIVISIONS`].
     pub fn validate(&self) -> Result<(), CreepError> {
-        for (parameter, n) in [
-            ("strips", self.strips),
-            ("elements_per_strip", self.elements_per_strip),
-        ] {
-            if !(1..=Self::MAX_DIVISIONS).contains(&n) {
-                return Err(CreepError::InvalidParameter {
-                    law: "FASTSIM",
-                    parameter,
-                    value: n as f64,
-                    rule: "must be an integer from 1 to 2000",
-                });
-            }
-        }
-        Ok(())
+        validate_divisions("FASTSIM", self.strips, self.elements_per_strip)
     }
+}
+
+/// The grid rule of FASTSIM and FaStrip: strips and elements per strip in
+/// 1 ..= [`FastsimParams::MAX_DIVISIONS`]; `law` names the law in the error.
+pub(super) fn validate_divisions(
+    law: &'static str,
+    strips: usize,
+    elements_per_strip: usize,
+) -> Result<(), CreepError> {
+    for (parameter, n) in [
+        ("strips", strips),
+        ("elements_per_strip", elements_per_strip),
+    ] {
+        if !(1..=FastsimParams::MAX_DIVISIONS).contains(&n) {
+            return Err(CreepError::InvalidParameter {
+                law,
+                parameter,
+                value: n as f64,
+                rule: "must be an integer from 1 to 2000",
+            });
+        }
+    }
+    Ok(())
 }
 
 /// The three flexibilities of the simplified theory (m/Pa), Kalker 1982
