@@ -4,6 +4,7 @@
 
 pub mod choices;
 pub mod load;
+pub mod overrides;
 pub mod scene;
 pub mod variation;
 pub mod vehicle;

@@ -78,6 +78,8 @@ use runtime::multibody::track_motion::SpeedRamp;
 use runtime::multibody::{DynamicsError, SystemSettings};
 use serde::{Deserialize, Serialize};
 
+use super::overrides::{command_line_assignment, set_entry, typed};
+
 pub use super::choices::{
     ContactMethodKind, CreepLawName, FlangeMode, IntegratorKind, NonHertzianMode, PlanItem,
     PlanMode, PolachPreset,
@@ -595,17 +597,21 @@ impl LoadedScene {
     /// A scene from its entries after `overrides` (`key=value`, recorded
     /// in the text's first line), checked.
     pub(crate) fn from_table(
-        table: toml::Table,
+        mut table: toml::Table,
         dir: PathBuf,
         overrides: &[String],
         origin: String,
     ) -> Result<LoadedScene> {
+        let keys: Vec<String> = overrides
+            .iter()
+            .filter_map(|o| o.split_once('=').map(|(k, _)| k.trim().to_string()))
+            .collect();
+        let scene: Scene = typed(&mut table, &keys)?;
         let text = format!(
             "# overrides: {}\n{}",
             overrides.join(" "),
             toml::to_string(&table)?
         );
-        let scene: Scene = table.try_into().context("the scene's entries")?;
         scene.validate()?;
         Ok(LoadedScene {
             scene,
@@ -648,45 +654,14 @@ impl LoadedScene {
     }
 }
 
-/// Sets `a.b.c = value` in `table` (value parsed as TOML, or a string); an
-/// empty value removes the entry (e.g. `track.centerline=` to use
-/// `track.straight_m` instead).
+/// Sets `a.b.c = value` in `table` as `--set key=value` does
+/// ([`super::overrides`]: the value read as TOML, or else as a string; a
+/// relative path to a file entry resolved against the current directory;
+/// an empty value removes the entry, e.g. `track.centerline=` to use
+/// `track.tables` or `track.straight_m` instead).
 pub fn apply_override(table: &mut toml::Table, assignment: &str) -> Result<()> {
-    let (key, value) = assignment
-        .split_once('=')
-        .context("an override is key=value, e.g. initial.speed_m_s=20")?;
-    let key = key.trim();
-    ensure!(!key.is_empty(), "empty key");
-    let value = value.trim();
-    if value.is_empty() {
-        let parts: Vec<&str> = key.split('.').collect();
-        let mut cur = table;
-        for p in &parts[..parts.len() - 1] {
-            cur = cur
-                .get_mut(*p)
-                .and_then(toml::Value::as_table_mut)
-                .with_context(|| format!("'{p}' is not a section of the scene"))?;
-        }
-        cur.remove(parts[parts.len() - 1])
-            .with_context(|| format!("'{key}' is not set, nothing to remove"))?;
-        return Ok(());
-    }
-    let parsed: toml::Value = match format!("v = {value}").parse::<toml::Table>() {
-        Ok(mut t) => t.remove("v").context("parsed value")?,
-        Err(_) => toml::Value::String(value.to_string()),
-    };
-    let parts: Vec<&str> = key.split('.').collect();
-    let mut cur = table;
-    for p in &parts[..parts.len() - 1] {
-        let entry = cur
-            .entry(p.to_string())
-            .or_insert_with(|| toml::Value::Table(toml::Table::new()));
-        cur = entry
-            .as_table_mut()
-            .with_context(|| format!("'{p}' is not a section"))?;
-    }
-    cur.insert(parts[parts.len() - 1].to_string(), parsed);
-    Ok(())
+    let (key, value) = command_line_assignment(assignment)?;
+    set_entry(table, &key, value)
 }
 
 /// The scene key of a runtime motion setting (its error names the setting

@@ -7,6 +7,7 @@
 use anyhow::{Context, Result};
 
 use super::choices::{ContactMethodKind, CreepLawName, FlangeMode, IntegratorKind};
+use super::overrides::{parse_assignment, set_entry};
 use super::scene::{LoadedScene, Scene};
 
 /// One change to a scene.
@@ -92,20 +93,10 @@ impl Variation {
     /// A `key=value` assignment as `--set` takes it: the value is read as
     /// TOML, or else as a string; an empty value removes the entry.
     pub fn parse(assignment: &str) -> Result<Variation> {
-        let (key, value) = assignment
-            .split_once('=')
-            .context("an override is key=value, e.g. initial.speed_m_s=20")?;
-        let key = key.trim();
-        anyhow::ensure!(!key.is_empty(), "empty key");
-        let value = value.trim();
-        if value.is_empty() {
-            return Ok(Variation::Remove(key.to_string()));
-        }
-        let parsed: toml::Value = match format!("v = {value}").parse::<toml::Table>() {
-            Ok(mut t) => t.remove("v").context("parsed value")?,
-            Err(_) => toml::Value::String(value.to_string()),
-        };
-        Ok(Variation::Set(key.to_string(), parsed))
+        Ok(match parse_assignment(assignment)? {
+            (key, Some(value)) => Variation::Set(key, value),
+            (key, None) => Variation::Remove(key),
+        })
     }
 
     /// `key=value` as on the command line (for the run's origin and the
@@ -116,41 +107,6 @@ impl Variation {
             (k, None) => format!("{k}="),
         }
     }
-}
-
-/// Sets (or removes) a dotted key in a TOML table.
-pub(crate) fn set_entry(
-    table: &mut toml::Table,
-    key: &str,
-    value: Option<toml::Value>,
-) -> Result<()> {
-    let parts: Vec<&str> = key.split('.').collect();
-    anyhow::ensure!(parts.iter().all(|p| !p.is_empty()), "empty key in '{key}'");
-    let (last, sections) = parts.split_last().expect("split gives one part at least");
-    let mut cur = table;
-    for p in sections {
-        if value.is_none() {
-            cur = cur
-                .get_mut(*p)
-                .and_then(toml::Value::as_table_mut)
-                .with_context(|| format!("'{p}' is not a section of the scene"))?;
-        } else {
-            cur = cur
-                .entry(p.to_string())
-                .or_insert_with(|| toml::Value::Table(toml::Table::new()))
-                .as_table_mut()
-                .with_context(|| format!("'{p}' is not a section"))?;
-        }
-    }
-    match value {
-        Some(v) => {
-            cur.insert(last.to_string(), v);
-        }
-        None => {
-            cur.remove(*last);
-        }
-    }
-    Ok(())
 }
 
 impl LoadedScene {

@@ -52,7 +52,8 @@ pub fn check_rail(ls: &LoadedScene) -> Result<RailCantCheck> {
         )?);
     };
     let path = ls.path(tables);
-    let meta = runtime::io::schema::read_track_meta(&path)?;
+    let meta = runtime::io::schema::read_track_meta(&path)
+        .with_context(|| format!("[track] tables = {}", path.display()))?;
     if let Some(stated) = t.stated_inclination()?
         && (stated.angle_rad - meta.rail_inclination_rad).abs() > SAME_INCLINATION_RAD
     {

@@ -14,6 +14,7 @@ mod contact;
 mod contact_search;
 mod fuzz;
 mod motion;
+mod overrides;
 mod track;
 mod trust;
 mod trust_diagnostics;
