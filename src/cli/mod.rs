@@ -167,11 +167,8 @@ pub fn run(cli: Cli) -> Result<()> {
             for p in &runs {
                 let r = runtime::io::schema::read_results(p)
                     .with_context(|| format!("reading {}", p.display()))?;
-                let label = format!(
-                    "{} m/s, {}",
-                    r.attribute("speed_m_s").unwrap_or("?"),
-                    r.attribute("creep_law").unwrap_or("?")
-                );
+                let shown = |name: &str| r.attribute(name).map_or("?".into(), |v| v.to_string());
+                let label = format!("{} m/s, {}", shown("speed_m_s"), shown("creep_law"));
                 loaded.push((label, r));
             }
             let refs: Vec<(String, &runtime::results::RunResults)> =

@@ -41,6 +41,7 @@ mod attrs;
 mod columns;
 mod contact_table;
 mod imported;
+mod results_bodies;
 mod results_file;
 mod results_writer;
 mod track;

@@ -116,7 +116,7 @@ use super::results_writer::ResultsWriter;
 use super::{SchemaError, attrs};
 use crate::contact::nadal::NadalLimit;
 use crate::results::{
-    Column, RESERVED_ATTRIBUTES, RunResults, TIME_S, Values, WHEEL_COLUMNS, WHEEL_GROUPS,
+    AttrValue, Column, RESERVED_ATTRIBUTES, RunResults, TIME_S, Values, WHEEL_COLUMNS, WHEEL_GROUPS,
     WHEELSET_COLUMNS, WheelValues, WheelsetSample, WheelsetSeries, ZONE_COLUMNS, ZONE_GROUPS,
     ZoneSample, wheelset_group,
 };
@@ -184,7 +184,7 @@ pub fn write_results(path: &Path, results: &RunResults) -> Result<(), SchemaErro
 // ---------------------------------------------------------------------------
 // Reading
 /// Read a 1-D dataset `group/name` of exactly `n` values.
-fn read_series<T: hdf5::H5Type>(
+pub(super) fn read_series<T: hdf5::H5Type>(
     path: &Path,
     group: &hdf5::Group,
     name: &str,
@@ -219,11 +219,11 @@ fn read_series<T: hdf5::H5Type>(
 }
 
 /// Whether `group` has a member `name`.
-fn has(group: &hdf5::Group, name: &str) -> bool {
+pub(super) fn has(group: &hdf5::Group, name: &str) -> bool {
     group.link_exists(name)
 }
 
-fn open_group(path: &Path, parent: &hdf5::Group, name: &str) -> Result<hdf5::Group, SchemaError> {
+pub(super) fn open_group(path: &Path, parent: &hdf5::Group, name: &str) -> Result<hdf5::Group, SchemaError> {
     parent.group(name).map_err(|_| SchemaError::Missing {
         path: path.to_path_buf(),
         what: format!("group {}/{name}", parent.name().trim_end_matches('/')),
@@ -266,7 +266,7 @@ fn open_results(path: &Path) -> Result<hdf5::File, SchemaError> {
 fn read_run_attributes(
     path: &Path,
     file: &hdf5::File,
-) -> Result<Vec<(String, String)>, SchemaError> {
+) -> Result<Vec<(String, AttrValue)>, SchemaError> {
     let by_creation = file
         .attr_names_by(IndexType::CreationOrder, IterationOrder::Increasing)
         .ok();
@@ -280,7 +280,7 @@ fn read_run_attributes(
         .into_iter()
         .filter(|n| !RESERVED_ATTRIBUTES.contains(&n.as_str()))
         .map(|name| {
-            let value = attrs::read_str(path, file, "the file", &name)?;
+            let value = attrs::read_value(path, file, "the file", &name)?;
             Ok((name, value))
         })
         .collect()
@@ -290,7 +290,7 @@ fn read_run_attributes(
 /// (`n` values each). A column added later that the file lacks is left
 /// out and returned, for [`fill_columns`]; any other missing one is an
 /// error.
-fn read_columns<'c, S, V>(
+pub(super) fn read_columns<'c, S, V>(
     path: &Path,
     group: &hdf5::Group,
     columns: &'c [Column<S, V>],
@@ -412,11 +412,14 @@ pub fn read_results(path: &Path) -> Result<RunResults, SchemaError> {
         }
         wheelsets.push(ws);
     }
+    let (bodies, car_body) = super::results_bodies::read(path, &file, n)?;
     let results = RunResults {
         time_s,
         wheelsets,
         scene_toml,
         attributes,
+        bodies,
+        car_body,
     };
     results
         .validate()
