@@ -72,7 +72,11 @@ fn the_cooperrider_car_records_every_body_and_its_car_body() {
     assert_eq!(car.assembly_height_m, 2.0596);
     // The car body rides at its assembly height and place (within 1 mm).
     for i in 0..r.len() {
-        assert!((car.vertical_m[i] - 2.0596).abs() < 1e-3, "{}", car.vertical_m[i]);
+        assert!(
+            (car.vertical_m[i] - 2.0596).abs() < 1e-3,
+            "{}",
+            car.vertical_m[i]
+        );
         assert!(car.longitudinal_m[i].abs() < 1e-3);
         assert!((car.longitudinal_velocity_m_s[i] - 40.0).abs() < 0.01);
     }
@@ -113,5 +117,10 @@ fn the_bogie_has_no_car_body_among_its_bodies() {
     let frame = &r.bodies[2];
     assert_eq!(frame.kind, BodyKind::Free);
     assert!(frame.lateral_m.iter().all(|v| v.is_finite()));
-    assert!(frame.vertical_acceleration_m_s2.iter().all(|v| v.is_finite()));
+    assert!(
+        frame
+            .vertical_acceleration_m_s2
+            .iter()
+            .all(|v| v.is_finite())
+    );
 }

@@ -338,7 +338,10 @@ fn results_h5dump_shows_the_layout() {
         attrs.contains("H5T_IEEE_F64LE") && attrs.contains("H5T_STD_I64LE"),
         "{attrs}"
     );
-    assert!(attrs.contains("(0): 36") && attrs.contains("(0): 50910"), "{attrs}");
+    assert!(
+        attrs.contains("(0): 36") && attrs.contains("(0): 50910"),
+        "{attrs}"
+    );
 
     // The values, not just the header: schema and a units attribute.
     let out = Command::new("h5dump")
@@ -439,7 +442,10 @@ fn results_unknown_schema_version_is_refused() {
         }
         other => panic!("unexpected error {other}"),
     }
-    assert!(e.to_string().contains("version 2"), "{e}");
+    assert!(
+        e.to_string().contains("version 3") && e.to_string().contains("versions 1 to 2"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -552,7 +558,15 @@ fn results_y_over_q_sign_and_old_files() {
             }
             f.group(ws).unwrap().unlink("track_s_m").unwrap();
         }
-        // No bodies, and string attributes, as before they were typed.
+        // Version 1: no bodies, and string attributes, as before they were
+        // typed.
+        f.delete_attr("schema_version").unwrap();
+        f.new_attr::<u32>()
+            .shape(())
+            .create("schema_version")
+            .unwrap()
+            .write_scalar(&1)
+            .unwrap();
         f.unlink("bodies").unwrap();
         for name in ["speed_m_s", "steps", "flag"] {
             f.delete_attr(name).unwrap();

@@ -285,7 +285,11 @@ pub fn comparison_chart_by(
             Abscissa::TrackPosition if with_s => &ws.track_s_m,
             Abscissa::TrackPosition => &ws.distance_m,
         };
-        let points = x.iter().zip(&ws.lateral_m).map(|(&x, &y)| (x, 1e3 * y)).collect();
+        let points = x
+            .iter()
+            .zip(&ws.lateral_m)
+            .map(|(&x, &y)| (x, 1e3 * y))
+            .collect();
         chart
             .series
             .push(Series::line(label.clone(), points).with_colour(i));

@@ -595,9 +595,7 @@ pub fn run_attributes(
         ),
         (
             "rejected_steps".to_string(),
-            stats.map_or("unknown (the run failed)".into(), |s| {
-                s.rejected.into()
-            }),
+            stats.map_or("unknown (the run failed)".into(), |s| s.rejected.into()),
         ),
         ("rhs_evaluations".to_string(), rhs_evaluations.into()),
         ("contact_solves".to_string(), contact_solves.into()),

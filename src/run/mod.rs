@@ -335,9 +335,18 @@ fn run_session(
         ("title".into(), scene.title.clone().into()),
         ("scene".into(), ls.origin.clone().into()),
         ("vehicle".into(), session.vehicle_file.name.clone().into()),
-        ("creep_law".into(), scene.contact.creep_law.to_string().into()),
-        ("contact_method".into(), scene.contact.method.to_string().into()),
-        ("flange_search".into(), scene.contact.flange.to_string().into()),
+        (
+            "creep_law".into(),
+            scene.contact.creep_law.to_string().into(),
+        ),
+        (
+            "contact_method".into(),
+            scene.contact.method.to_string().into(),
+        ),
+        (
+            "flange_search".into(),
+            scene.contact.flange.to_string().into(),
+        ),
         ("integrator".into(), scene.run.integrator.to_string().into()),
         ("speed_m_s".into(), scene.initial.speed_m_s.into()),
         ("track".into(), session.track_source.path.clone().into()),

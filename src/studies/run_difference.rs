@@ -68,7 +68,12 @@ fn has_track_position(ws: &WheelsetSeries) -> bool {
 
 /// The abscissa of wheelset `ws` of `r`; by track position `track_s_m`,
 /// or `distance_m` when `with_s` is false.
-fn abscissa<'a>(r: &'a RunResults, ws: &'a WheelsetSeries, by: Abscissa, with_s: bool) -> &'a [f64] {
+fn abscissa<'a>(
+    r: &'a RunResults,
+    ws: &'a WheelsetSeries,
+    by: Abscissa,
+    with_s: bool,
+) -> &'a [f64] {
     match by {
         Abscissa::Time => &r.time_s,
         Abscissa::TrackPosition if with_s => &ws.track_s_m,
@@ -80,11 +85,8 @@ fn abscissa<'a>(r: &'a RunResults, ws: &'a WheelsetSeries, by: Abscissa, with_s:
 /// position: `track_s_m` when every run has it, else `distance_m` for all
 /// (one axis for every curve); `true` when it is `track_s_m`.
 pub fn all_have_track_position(runs: &[&RunResults], wheelset: usize) -> bool {
-    runs.iter().all(|r| {
-        r.wheelsets
-            .get(wheelset)
-            .is_some_and(has_track_position)
-    })
+    runs.iter()
+        .all(|r| r.wheelsets.get(wheelset).is_some_and(has_track_position))
 }
 
 /// Linear interpolation of `(x, y)` at `at` (x non-decreasing, `at` within).
@@ -138,7 +140,11 @@ pub fn lateral_difference_by(
         if let Some(i) = (1..x.len()).find(|&i| !(x[i] >= x[i - 1])) {
             bail!(
                 "the {which}'s {} goes back at sample {i} ({} then {}): the wheelset runs backwards, compare by time",
-                if by == Abscissa::Time { "time" } else { "track position" },
+                if by == Abscissa::Time {
+                    "time"
+                } else {
+                    "track position"
+                },
                 x[i - 1],
                 x[i]
             );
@@ -169,7 +175,11 @@ pub fn lateral_difference_by(
     ensure!(
         n > 0,
         "the run and the reference have no common {} span (run {x0} … {x1} {})",
-        if by == Abscissa::Time { "time" } else { "track" },
+        if by == Abscissa::Time {
+            "time"
+        } else {
+            "track"
+        },
         by.unit()
     );
     Ok(Difference {
@@ -214,7 +224,10 @@ mod tests {
         let (slow, fast) = (hunting(10.0, 5.0, true), hunting(12.0, 5.0, true));
         let p = lateral_difference_by(&slow, &fast, 0, Abscissa::TrackPosition).unwrap();
         assert!(p.max_m < 1e-6, "{p:?}");
-        assert!((p.from - 5.0).abs() < 1e-9 && (p.span() - 30.0).abs() < 0.02, "{p:?}");
+        assert!(
+            (p.from - 5.0).abs() < 1e-9 && (p.span() - 30.0).abs() < 0.02,
+            "{p:?}"
+        );
         assert_eq!(p.fell_back, [false, false]);
         let t = lateral_difference_by(&slow, &fast, 0, Abscissa::Time).unwrap();
         assert!(t.max_m > 3e-3, "{t:?}");

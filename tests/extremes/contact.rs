@@ -375,7 +375,9 @@ fn contact_flange_climb_stops_cleanly_with_a_diagnostic() {
     let res = r.results();
     let status = res.attribute_text("status").expect("status");
     assert!(status.starts_with("failed:"), "{status}");
-    let diag = res.attribute_text("diagnostic").expect("diagnostic attribute");
+    let diag = res
+        .attribute_text("diagnostic")
+        .expect("diagnostic attribute");
     assert!(diag.contains("derailed") && diag.contains("y = "), "{diag}");
     assert!(res.attribute("steps").is_some());
     let left = &res.wheelsets[0].wheels[0];

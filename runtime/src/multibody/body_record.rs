@@ -68,11 +68,7 @@ pub(super) fn body_samples(
     let n_ws = v.wheelsets.len();
     let track_err = |name: &str| {
         let what = format!("recording body '{name}'");
-        move |source: TrackError| DynamicsError::Track {
-            what,
-            t_s,
-            source,
-        }
+        move |source: TrackError| DynamicsError::Track { what, t_s, source }
     };
     let bodies = v
         .wheelsets

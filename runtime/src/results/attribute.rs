@@ -8,7 +8,7 @@
 //! guessed), and the numeric accessors ([`AttrValue::as_f64`],
 //! [`AttrValue::as_i64`]) parse such a text when it is a number, so code
 //! reading `steps` or `speed_m_s` works on old and new files alike
-//! (docs/reference/04-table-files.md, results file, run attributes).
+//! (docs/reference/04-table-files.md §4.4, "Root attributes").
 
 use std::fmt;
 

@@ -229,11 +229,7 @@ pub const BODY_COLUMNS: [Column<BodySeries, BodySample>; 15] = [
         "rad",
         "pitch relative to the track, + nose down (right-handed about the left-pointing lateral axis); a wheelset: its rolling angle, wrapped to (-pi, pi]"
     ),
-    f64_column!(
-        yaw_rad,
-        "rad",
-        "yaw relative to the track, + nose left"
-    ),
+    f64_column!(yaw_rad, "rad", "yaw relative to the track, + nose left"),
     f64_column!(
         longitudinal_velocity_m_s,
         "m/s",
@@ -358,7 +354,10 @@ mod tests {
             ("car body", 44388.0),
         ])
         .unwrap();
-        assert_eq!((coop.name.as_str(), coop.rule.as_str()), ("car body", CarBody::BY_NAME));
+        assert_eq!(
+            (coop.name.as_str(), coop.rule.as_str()),
+            ("car body", CarBody::BY_NAME)
+        );
         // Unnamed: the heaviest, when much heavier than the others.
         let heavy = recognise_car_body([("b1", 2900.0), ("shell", 30000.0), ("b2", 2900.0)]);
         assert_eq!(

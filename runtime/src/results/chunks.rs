@@ -104,7 +104,8 @@ impl RunResults {
         self.time_s.extend(picked.iter().map(|&i| other.time_s[i]));
         for (b, o) in self.bodies.iter_mut().zip(&other.bodies) {
             let mut src = Vec::new();
-            o.clone().for_each_series(&mut |v| src.push(std::mem::take(v)));
+            o.clone()
+                .for_each_series(&mut |v| src.push(std::mem::take(v)));
             let mut k = src.iter();
             b.for_each_series(&mut |v| {
                 let s = k.next().expect("same columns");

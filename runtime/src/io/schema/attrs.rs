@@ -138,10 +138,10 @@ pub(super) fn read_value(
         path: path.to_path_buf(),
         what: format!("attribute '{name}' of {what}"),
     })?;
-    let descriptor = attr
-        .dtype()
-        .and_then(|d| d.to_descriptor())
-        .map_err(err(path, format!("reading the type of attribute {name} of {what}")))?;
+    let descriptor = attr.dtype().and_then(|d| d.to_descriptor()).map_err(err(
+        path,
+        format!("reading the type of attribute {name} of {what}"),
+    ))?;
     let action = || format!("reading attribute {name} of {what}");
     Ok(match descriptor {
         T::Integer(_) | T::Unsigned(_) => {

@@ -110,7 +110,11 @@ pub(super) fn append_columns<S, V>(
     Ok(())
 }
 
-pub(super) fn create_group(path: &Path, parent: &hdf5::Group, name: &str) -> Result<hdf5::Group, SchemaError> {
+pub(super) fn create_group(
+    path: &Path,
+    parent: &hdf5::Group,
+    name: &str,
+) -> Result<hdf5::Group, SchemaError> {
     parent
         .create_group(name)
         .map_err(hdf5_err(path, format!("creating group {name}")))
