@@ -137,7 +137,7 @@ pub fn lateral_difference_by(
         Abscissa::TrackPosition => [!has_r, !has_v],
     };
     for (x, which) in [(xr, "reference"), (xv, "run")] {
-        if let Some(i) = (1..x.len()).find(|&i| !(x[i] >= x[i - 1])) {
+        if let Some(i) = (1..x.len()).find(|&i| x[i] < x[i - 1] || x[i].is_nan()) {
             bail!(
                 "the {which}'s {} goes back at sample {i} ({} then {}): the wheelset runs backwards, compare by time",
                 if by == Abscissa::Time {

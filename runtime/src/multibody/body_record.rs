@@ -143,7 +143,7 @@ mod tests {
             (0.01, -0.02, 0.03),
             (-0.3, 0.2, 2.9),
             (0.0, 0.0, -3.0),
-            (1.0, -0.5, 1.5707),
+            (1.0, -0.5, 1.55),
         ] {
             let m = yawed_and_rolled(yaw, roll)
                 * Rotation3::from_axis_angle(&Vector3::y_axis(), pitch).into_inner();

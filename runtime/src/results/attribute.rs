@@ -119,14 +119,6 @@ impl From<bool> for AttrValue {
     }
 }
 
-/// Compare with a text (`value == "completed"`): true only for
-/// [`AttrValue::Text`] of that text.
-impl PartialEq<&str> for AttrValue {
-    fn eq(&self, other: &&str) -> bool {
-        self.as_str() == Some(*other)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -144,7 +136,7 @@ mod tests {
         assert_eq!(AttrValue::from(1.5).as_i64(), None);
         assert_eq!(AttrValue::from(22.0).to_string(), "22");
         assert_eq!(AttrValue::from(1e-3).to_string(), "0.001");
-        assert!(AttrValue::from("completed") == "completed");
-        assert!(AttrValue::from(0_i64) != "0");
+        assert_eq!(AttrValue::from("completed").as_str(), Some("completed"));
+        assert_eq!(AttrValue::from(0_i64).as_str(), None);
     }
 }
