@@ -97,8 +97,9 @@
 //! Datasets are uncompressed, chunked ([`super::RESULTS_CHUNK_SAMPLES`]
 //! samples per chunk) and extendable: `sim run` appends the samples while
 //! the run goes on ([`super::ResultsWriter`]), so its memory does not grow
-//! with the run's length (a 13.5 s run sampled at 1 kHz with two wheelsets
-//! is about 12 MB). Root attribute creation order is
+//! with the run's length (about 1.6 kB a sample for two wheelsets and
+//! three bodies: a 13.5 s run sampled at 1 kHz is about 22 MB; docs/reference/04-table-files.md
+//! §4.4). Root attribute creation order is
 //! tracked, so the run metadata reads back in the order it was written.
 //! The file is written atomically ([`AtomicFile`]): nothing appears at the
 //! destination unless the whole file was written.
