@@ -369,7 +369,7 @@ fn sim_run_prints_the_block_and_the_planned_run_equals_the_full_model() {
         r.attributes
             .iter()
             .find(|(n, _)| n == k)
-            .map(|(_, v)| v.clone())
+            .map(|(_, v)| v.to_string())
             .unwrap_or_default()
     };
     assert!(attr(&a, "plan").starts_with("plan (mode required"));

@@ -125,7 +125,7 @@ fn wheelset_hunts_with_the_klingel_wavelength_at_10_m_s() {
         let d = ws[key].as_f64().unwrap();
         assert!((d - 80.0).abs() < 0.05, "{key} = {d}");
     }
-    assert_eq!(r.attribute("creep_law"), Some("polach"));
+    assert_eq!(r.attribute_text("creep_law"), Some("polach"));
     assert!(r.scene_toml.contains("overrides: run.distance_m=80"));
 }
 
@@ -150,7 +150,7 @@ fn wheelset_hunts_with_fastrip() {
         ],
     );
     let r = read_results(&out).expect("results file");
-    assert_eq!(r.attribute("creep_law"), Some("fastrip"));
+    assert_eq!(r.attribute_text("creep_law"), Some("fastrip"));
     let l = wavelength_m(&r);
     assert!(
         (l / KLINGEL_M - 1.0).abs() < 0.03,
@@ -446,5 +446,5 @@ fn ctrl_c_stops_cleanly_and_writes_the_results() {
     assert!(t > 0.0 && t < 140.0, "{t}");
     let r = read_results(&out).unwrap();
     assert!(r.len() > 10);
-    assert_eq!(r.attribute("status"), Some("interrupted"));
+    assert_eq!(r.attribute_text("status"), Some("interrupted"));
 }

@@ -7,7 +7,10 @@ use std::sync::{RwLock, RwLockReadGuard};
 
 use runtime::contact::nadal::{NadalLimit, nadal_limit};
 use runtime::io::schema::{RESULTS_SCHEMA_VERSION, SchemaError, read_results, write_results};
-use runtime::results::{ResultsError, RunResults, WheelSample, WheelsetSample, ZoneSample};
+use runtime::results::{
+    AttrValue, BODY_COLUMNS, BodyKind, BodySample, BodySeries, CarBody, ResultsError, RunResults,
+    Values, WheelSample, WheelsetSample, ZoneSample,
+};
 
 /// Spawning `h5dump` forks this process: the child inherits the file
 /// descriptors (and HDF5's file locks) of files other tests have open at
@@ -56,9 +59,24 @@ fn synthetic(n: usize) -> RunResults {
     r.attributes = vec![
         ("creep_law".into(), "polach".into()),
         ("integrator".into(), "rk4".into()),
-        ("speed_m_s".into(), "36".into()),
+        ("speed_m_s".into(), 36.0.into()),
+        ("steps".into(), 50910_u64.into()),
+        ("flag".into(), true.into()),
         ("a_first_by_name_last_by_order".into(), "x".into()),
     ];
+    let mut car = BodySeries::new("car body", BodyKind::Free, 44388.0);
+    car.assembly_x_m = 0.0;
+    car.assembly_height_m = 2.0596;
+    let mut ws = BodySeries::new("leading", BodyKind::Wheelset, 1500.0);
+    ws.assembly_x_m = 1.25;
+    // A name HDF5 cannot take as a link: stored under "frame_a", named in
+    // its `name` attribute.
+    let frame = BodySeries::new("frame/a", BodyKind::Free, 2900.0);
+    r.bodies = vec![ws, frame, car];
+    r.car_body = Some(CarBody {
+        name: "car body".into(),
+        rule: CarBody::BY_NAME.into(),
+    });
     for k in 0..n {
         let t = k as f64 * 1e-3;
         let samples: Vec<WheelsetSample> = (0..2)
@@ -82,7 +100,8 @@ fn synthetic(n: usize) -> RunResults {
                 }
             })
             .collect();
-        r.push(t, &samples).unwrap();
+        let bodies: Vec<BodySample> = (0..3).map(|b| body_sample(k, b)).collect();
+        r.push_sample(t, &samples, &bodies).unwrap();
     }
     r.wheelsets[0].wheels[1].nadal = Some(NadalLimit {
         flange_angle_rad: 1.2,
@@ -90,6 +109,17 @@ fn synthetic(n: usize) -> RunResults {
         limit: nadal_limit(1.2, 0.3),
     });
     r
+}
+
+/// A body sample whose every value is distinct (a swapped column shows).
+fn body_sample(k: usize, body: usize) -> BodySample {
+    let mut s = BodySample::default();
+    for (j, c) in BODY_COLUMNS.iter().enumerate() {
+        if let Values::F64(a) = &c.values {
+            (a.set)(&mut s, 100.0 * body as f64 + j as f64 + 1e-3 * k as f64);
+        }
+    }
+    s
 }
 
 /// Bitwise equality of two f64 series (NaN positions included).
@@ -101,6 +131,21 @@ fn assert_same(a: &RunResults, b: &RunResults) {
     assert!(same_bits(&a.time_s, &b.time_s));
     assert_eq!(a.scene_toml, b.scene_toml);
     assert_eq!(a.attributes, b.attributes);
+    assert_eq!(a.car_body, b.car_body);
+    assert_eq!(a.bodies.len(), b.bodies.len());
+    for (x, y) in a.bodies.iter().zip(&b.bodies) {
+        assert_eq!((&x.name, x.kind), (&y.name, y.kind));
+        for v in [
+            (x.mass_kg, y.mass_kg),
+            (x.assembly_x_m, y.assembly_x_m),
+            (x.assembly_height_m, y.assembly_height_m),
+        ] {
+            assert_eq!(v.0.to_bits(), v.1.to_bits(), "{}", x.name);
+        }
+        for i in 0..a.len() {
+            assert_eq!(x.sample(i), y.sample(i), "{} sample {i}", x.name);
+        }
+    }
     assert_eq!(a.wheelsets.len(), b.wheelsets.len());
     for (x, y) in a.wheelsets.iter().zip(&b.wheelsets) {
         assert_eq!(x.name, y.name);
@@ -170,7 +215,12 @@ fn results_round_trip_is_exact() {
     let back = read_results(&path).unwrap();
     assert_same(&r, &back);
     assert_eq!(back.len(), 500);
-    assert_eq!(back.attribute("creep_law"), Some("polach"));
+    assert_eq!(back.attribute_text("creep_law"), Some("polach"));
+    // Numbers come back as numbers.
+    assert_eq!(back.attribute("speed_m_s"), Some(&AttrValue::Float(36.0)));
+    assert_eq!(back.attribute("steps"), Some(&AttrValue::Int(50910)));
+    assert_eq!(back.attribute("flag"), Some(&AttrValue::Bool(true)));
+    assert_eq!(back.bodies[1].name, "frame/a");
     // No temporary left behind.
     let names: Vec<_> = std::fs::read_dir(&dir)
         .unwrap()
@@ -261,8 +311,37 @@ fn results_h5dump_shows_the_layout() {
     // Every wheel has 2 zones × 15 datasets (in_contact, 13 values,
     // fallback) + 5 (travelled_m, flange_contact, y_n, q_n, y_over_q): 35
     // per wheel, 70 + 6 per wheelset (lateral_m, yaw_rad, roll_rad,
-    // distance_m, speed_m_s, track_s_m), plus time_s and scene.
-    assert_eq!(text.matches("DATASET \"").count(), 2 * (6 + 2 * 35) + 2);
+    // distance_m, speed_m_s, track_s_m), 15 per body (3), plus time_s and
+    // scene.
+    assert_eq!(
+        text.matches("DATASET \"").count(),
+        2 * (6 + 2 * 35) + 3 * BODY_COLUMNS.len() + 2
+    );
+    assert_eq!(BODY_COLUMNS.len(), 15);
+    for needle in [
+        "GROUP \"bodies\"",
+        "GROUP \"car body\"",
+        "GROUP \"frame_a\"",
+        "DATASET \"vertical_acceleration_m_s2\"",
+        "ATTRIBUTE \"car_body\"",
+    ] {
+        assert!(text.contains(needle), "h5dump -H lacks {needle}:\n{text}");
+    }
+    // Numeric run attributes are HDF5 numbers.
+    let out = Command::new("h5dump")
+        .args(["-a", "/speed_m_s", "-a", "/steps"])
+        .arg(&path)
+        .output()
+        .unwrap();
+    let attrs = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        attrs.contains("H5T_IEEE_F64LE") && attrs.contains("H5T_STD_I64LE"),
+        "{attrs}"
+    );
+    assert!(
+        attrs.contains("(0): 36") && attrs.contains("(0): 50910"),
+        "{attrs}"
+    );
 
     // The values, not just the header: schema and a units attribute.
     let out = Command::new("h5dump")
@@ -363,7 +442,10 @@ fn results_unknown_schema_version_is_refused() {
         }
         other => panic!("unexpected error {other}"),
     }
-    assert!(e.to_string().contains("version 2"), "{e}");
+    assert!(
+        e.to_string().contains("version 3") && e.to_string().contains("versions 1 to 2"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -476,12 +558,39 @@ fn results_y_over_q_sign_and_old_files() {
             }
             f.group(ws).unwrap().unlink("track_s_m").unwrap();
         }
+        // Version 1: no bodies, and string attributes, as before they were
+        // typed.
+        f.delete_attr("schema_version").unwrap();
+        f.new_attr::<u32>()
+            .shape(())
+            .create("schema_version")
+            .unwrap()
+            .write_scalar(&1)
+            .unwrap();
+        f.unlink("bodies").unwrap();
+        for name in ["speed_m_s", "steps", "flag"] {
+            f.delete_attr(name).unwrap();
+        }
+        let text = |v: &str| -> hdf5::types::VarLenUnicode { v.parse().unwrap() };
+        f.new_attr::<hdf5::types::VarLenUnicode>()
+            .shape(())
+            .create("speed_m_s")
+            .unwrap()
+            .write_scalar(&text("22"))
+            .unwrap();
     }
     let old = read_results(&path).unwrap();
     // The track position is stored and read back; unknown (NaN) in a file
     // from before it was stored.
     assert_eq!(full.wheelsets[0].track_s_m[2], 12.5 + 36.0 * 0.002);
     assert!(old.wheelsets[0].track_s_m.iter().all(|v| v.is_nan()));
+    // No bodies group: no bodies, no car body; a string attribute stays
+    // text, and reads as a number when asked for one.
+    assert!(old.bodies.is_empty() && old.car_body.is_none());
+    assert_eq!(full.bodies.len(), 3);
+    let speed = old.attribute("speed_m_s").unwrap();
+    assert_eq!(speed, &AttrValue::Text("22".into()));
+    assert_eq!(speed.as_f64(), Some(22.0));
     assert_eq!(old.wheelsets[0].track_s_m.len(), old.time_s.len());
     let (a, b) = (&full.wheelsets[1].wheels[1], &old.wheelsets[1].wheels[1]);
     assert!(same_bits(&a.y_over_q, &b.y_over_q));
@@ -510,7 +619,8 @@ fn results_written_in_chunks_read_back_as_one_record() {
     writer.clear().unwrap();
     assert_eq!(writer.samples(), 0);
     // Chunks of 1000 samples taken from the front of a growing record.
-    let mut pending = RunResults::with_wheelsets(["leading", "trailing"]);
+    let mut pending = full.clone();
+    let _ = pending.take_samples();
     for start in (0..full.len()).step_by(1000) {
         pending.append_where(&full, |i| (start..start + 1000).contains(&i));
         writer.append_chunk(&pending.take_samples()).unwrap();

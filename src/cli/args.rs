@@ -58,7 +58,7 @@ pub enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// Lateral displacement of one wheelset from several results files in one chart; prints each later run's lateral difference from the first, per wheelset.
+    /// Lateral displacement of one wheelset from several results files in one chart against track position; prints each later run's lateral difference from the first at equal track position (or time: --by time), per wheelset, and the span compared.
     Compare {
         /// Results files written by `sim run`.
         #[arg(value_name = "RESULTS.h5", required = true)]
@@ -72,6 +72,9 @@ pub enum Command {
         /// Chart title.
         #[arg(long, default_value = "Lateral displacement")]
         title: String,
+        /// Compare (and plot) at equal track position of each wheelset (its track_s_m; files without it: the distance travelled, with a warning) or at equal time since the start.
+        #[arg(long, value_enum, default_value_t = CompareBy::Position)]
+        by: CompareBy,
     },
     /// Our contact table of a wheel/rail pair against an imported one (rolling radius, contact angle, semi-axes, Δr): PNGs, CSV, summary.
     CompareContactTables {
@@ -580,4 +583,13 @@ impl ContactArgs {
         config.validate()?;
         Ok(config)
     }
+}
+
+/// What `sim compare` lines the runs up by.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum CompareBy {
+    /// Equal track position s of the wheelset (m).
+    Position,
+    /// Equal time since the start (s).
+    Time,
 }

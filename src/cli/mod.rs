@@ -4,6 +4,8 @@ pub mod args;
 pub mod probe;
 pub mod tradeoff;
 
+use std::path::{Path, PathBuf};
+
 use anyhow::{Context, Result};
 
 /// The user interrupted the work (Ctrl-C): `main` exits with 130, the
@@ -162,44 +164,8 @@ pub fn run(cli: Cli) -> Result<()> {
             out,
             wheelset,
             title,
-        } => {
-            let mut loaded = Vec::new();
-            for p in &runs {
-                let r = runtime::io::schema::read_results(p)
-                    .with_context(|| format!("reading {}", p.display()))?;
-                let label = format!(
-                    "{} m/s, {}",
-                    r.attribute("speed_m_s").unwrap_or("?"),
-                    r.attribute("creep_law").unwrap_or("?")
-                );
-                loaded.push((label, r));
-            }
-            let refs: Vec<(String, &runtime::results::RunResults)> =
-                loaded.iter().map(|(l, r)| (l.clone(), r)).collect();
-            crate::report::run_plots::write_comparison_plot(&refs, wheelset, &out, &title)?;
-            println!("wrote {}", out.display());
-            // Each later run against the first: every wheelset both have.
-            let (first_path, (_, first)) = (&runs[0], &loaded[0]);
-            for (path, (_, r)) in runs.iter().zip(&loaded).skip(1) {
-                for (i, w) in r.wheelsets.iter().enumerate().take(first.wheelsets.len()) {
-                    let (max_m, rms_m, span_s) = crate::studies::tradeoff::lateral_difference(
-                        first, r, i,
-                    )
-                    .with_context(|| {
-                        format!("comparing {} with {}", path.display(), first_path.display())
-                    })?;
-                    println!(
-                        "{} against {}, wheelset {i} ({}): lateral difference max {:.4} µm, rms {:.4} µm over {span_s:.3} s",
-                        path.display(),
-                        first_path.display(),
-                        w.name,
-                        max_m * 1e6,
-                        rms_m * 1e6
-                    );
-                }
-            }
-            Ok(())
-        }
+            by,
+        } => compare_runs(&runs, &out, wheelset, &title, by),
         Command::CompareContactTables {
             ours,
             imported,
@@ -316,6 +282,85 @@ fn critical_speed_command(args: &CriticalSpeedArgs) -> Result<()> {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {
         print!("{}", report.to_text());
+    }
+    Ok(())
+}
+
+/// `sim compare`: the chart, then each later run against the first, per
+/// wheelset both have, at equal track position or time
+/// ([`crate::studies::run_difference`]).
+fn compare_runs(
+    runs: &[PathBuf],
+    out: &Path,
+    wheelset: usize,
+    title: &str,
+    by: args::CompareBy,
+) -> Result<()> {
+    use crate::studies::run_difference::{Abscissa, lateral_difference_by};
+    let abscissa = match by {
+        args::CompareBy::Position => Abscissa::TrackPosition,
+        args::CompareBy::Time => Abscissa::Time,
+    };
+    let mut loaded = Vec::new();
+    for p in runs {
+        let r = runtime::io::schema::read_results(p)
+            .with_context(|| format!("reading {}", p.display()))?;
+        let shown = |name: &str| r.attribute(name).map_or("?".into(), |v| v.to_string());
+        let label = format!("{} m/s, {}", shown("speed_m_s"), shown("creep_law"));
+        loaded.push((label, r));
+    }
+    if abscissa == Abscissa::TrackPosition {
+        for (path, (_, r)) in runs.iter().zip(&loaded) {
+            let without: Vec<String> = r
+                .wheelsets
+                .iter()
+                .filter(|w| w.track_s_m.is_empty() || w.track_s_m.iter().any(|s| !s.is_finite()))
+                .map(|w| format!("'{}'", w.name))
+                .collect();
+            if !without.is_empty() {
+                eprintln!(
+                    "warning: {} has no track position for wheelset(s) {} (a file written before track_s_m was stored): compared and plotted by the distance travelled since the start instead, which lines up only runs that started at the same track position",
+                    path.display(),
+                    without.join(", ")
+                );
+            }
+        }
+    }
+    let refs: Vec<(String, &runtime::results::RunResults)> =
+        loaded.iter().map(|(l, r)| (l.clone(), r)).collect();
+    crate::report::run_plots::write_comparison_plot_by(&refs, wheelset, out, title, abscissa)?;
+    println!("wrote {}", out.display());
+    let (first_path, (_, first)) = (&runs[0], &loaded[0]);
+    for (path, (_, r)) in runs.iter().zip(&loaded).skip(1) {
+        for (i, w) in r.wheelsets.iter().enumerate().take(first.wheelsets.len()) {
+            let d = lateral_difference_by(first, r, i, abscissa).with_context(|| {
+                format!("comparing {} with {}", path.display(), first_path.display())
+            })?;
+            let over = match abscissa {
+                Abscissa::Time => format!("{:.3} s (t {:.3} … {:.3} s)", d.span(), d.from, d.to),
+                Abscissa::TrackPosition => {
+                    let what = if d.fell_back.contains(&true) {
+                        "distance travelled"
+                    } else {
+                        "track"
+                    };
+                    format!(
+                        "{:.3} m of {what} ({:.3} … {:.3} m)",
+                        d.span(),
+                        d.from,
+                        d.to
+                    )
+                }
+            };
+            println!(
+                "{} against {}, wheelset {i} ({}): lateral difference max {:.4} µm, rms {:.4} µm over {over}",
+                path.display(),
+                first_path.display(),
+                w.name,
+                d.max_m * 1e6,
+                d.rms_m * 1e6
+            );
+        }
     }
     Ok(())
 }

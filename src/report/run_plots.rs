@@ -14,7 +14,8 @@
 //!   φ (1/m) of the tread zones of the left and right wheels.
 //!
 //! [`write_comparison_plot`] draws one wheelset's lateral displacement for
-//! several runs (a speed or creep-law sweep, paper Figs. 15/17/18).
+//! several runs (a speed or creep-law sweep, paper Figs. 15/17/18) against
+//! its track position s (or against time, [`write_comparison_plot_by`]).
 //!
 //! Colours are fixed: in the per-wheel panels the left wheel is always
 //! palette colour 0 (blue) and the right wheel colour 1 (vermillion); in the
@@ -30,6 +31,8 @@ use anyhow::{Context, Result, bail, ensure};
 use preproc::plot::{LineChart, Series, write_line_chart, write_multi_panel};
 use runtime::results::{RunResults, WheelsetSeries, ZoneSeries};
 
+use crate::studies::run_difference::{Abscissa, all_have_track_position};
+
 /// File names written by [`write_run_plots`].
 pub const LATERAL_DISPLACEMENT_PNG: &str = "lateral_displacement.png";
 pub const CONTACT_FORCES_PNG: &str = "contact_forces.png";
@@ -43,6 +46,7 @@ const TREAD: usize = 0;
 const FLANGE: usize = 1;
 
 const DISTANCE_LABEL: &str = "distance travelled [m]";
+const TRACK_POSITION_LABEL: &str = "track position s [m]";
 /// Image sizes, px.
 const SINGLE_CHART_PX: (u32, u32) = (1600, 900);
 const PANEL_WIDTH_PX: u32 = 1900;
@@ -228,30 +232,67 @@ pub fn write_run_plots(results: &RunResults, dir: &Path, title: &str) -> Result<
 }
 
 /// The lateral displacement (mm) of wheelset `wheelset` in each of `runs`
-/// (label, results) against distance (m); run i takes palette colour i.
+/// (label, results) against the wheelset's track position s (m), or
+/// against the distance travelled when a run lacks s (an older file);
+/// run i takes palette colour i. [`comparison_chart_by`] with
+/// [`Abscissa::TrackPosition`].
 pub fn comparison_chart(
     runs: &[(String, &RunResults)],
     wheelset: usize,
     title: &str,
 ) -> Result<LineChart> {
-    let mut chart = LineChart::new(
-        title,
-        DISTANCE_LABEL,
-        format!("wheelset {wheelset} lateral displacement [mm] (+ left)"),
-    );
-    for (i, (label, results)) in runs.iter().enumerate() {
+    comparison_chart_by(runs, wheelset, title, Abscissa::TrackPosition)
+}
+
+/// [`comparison_chart`] against time (s) or track position (m): the
+/// abscissa `sim compare` compares the runs at
+/// ([`crate::studies::run_difference`]). By track position every curve is
+/// drawn against `track_s_m` when every run has it, else all against
+/// `distance_m` (one axis for every curve).
+pub fn comparison_chart_by(
+    runs: &[(String, &RunResults)],
+    wheelset: usize,
+    title: &str,
+    by: Abscissa,
+) -> Result<LineChart> {
+    for (label, results) in runs {
         results
             .validate()
             .with_context(|| format!("run '{label}' cannot be plotted"))?;
-        let Some(ws) = results.wheelsets.get(wheelset) else {
+        if results.wheelsets.get(wheelset).is_none() {
             bail!(
                 "run '{label}' has {} wheelset(s); there is no wheelset {wheelset} to compare",
                 results.wheelsets.len()
             );
+        }
+    }
+    let all: Vec<&RunResults> = runs.iter().map(|(_, r)| *r).collect();
+    let with_s = all_have_track_position(&all, wheelset);
+    let x_label = match by {
+        Abscissa::Time => "time [s]",
+        Abscissa::TrackPosition if with_s => TRACK_POSITION_LABEL,
+        Abscissa::TrackPosition => DISTANCE_LABEL,
+    };
+    let mut chart = LineChart::new(
+        title,
+        x_label,
+        format!("wheelset {wheelset} lateral displacement [mm] (+ left)"),
+    );
+    for (i, (label, results)) in runs.iter().enumerate() {
+        let ws = &results.wheelsets[wheelset];
+        let x: &[f64] = match by {
+            Abscissa::Time => &results.time_s,
+            Abscissa::TrackPosition if with_s => &ws.track_s_m,
+            Abscissa::TrackPosition => &ws.distance_m,
         };
-        chart.series.push(
-            Series::line(label.clone(), against_distance(ws, &ws.lateral_m, 1e3)).with_colour(i),
-        );
+        let points = x
+            .iter()
+            .zip(&ws.lateral_m)
+            .map(|(&x, &y)| (x, 1e3 * y))
+            .collect();
+        chart
+            .series
+            .push(Series::line(label.clone(), points).with_colour(i));
     }
     Ok(chart)
 }
@@ -263,8 +304,19 @@ pub fn write_comparison_plot(
     path: &Path,
     title: &str,
 ) -> Result<()> {
+    write_comparison_plot_by(runs, wheelset, path, title, Abscissa::TrackPosition)
+}
+
+/// Write [`comparison_chart_by`] as a PNG at `path`.
+pub fn write_comparison_plot_by(
+    runs: &[(String, &RunResults)],
+    wheelset: usize,
+    path: &Path,
+    title: &str,
+    by: Abscissa,
+) -> Result<()> {
     ensure!(!runs.is_empty(), "no runs to compare");
-    let chart = comparison_chart(runs, wheelset, title)?;
+    let chart = comparison_chart_by(runs, wheelset, title, by)?;
     write_line_chart(path, &chart, SINGLE_CHART_PX).context("writing the comparison plot")?;
     Ok(())
 }

@@ -39,6 +39,7 @@ use runtime::multibody::body::BodyState;
 use runtime::multibody::contact_force::ContactForceError;
 use runtime::multibody::track_motion::{project_s, track_relative, track_rotation};
 use runtime::multibody::{DynamicsError, VehicleSystem};
+use runtime::results::AttrValue;
 use serde::Serialize;
 
 /// A [`VehicleSystem`] that remembers the last state it was evaluated at
@@ -586,35 +587,33 @@ pub fn run_attributes(
     contact_solves: u64,
     fallbacks: &FallbackCounts,
     diagnostic: Option<&RunDiagnostic>,
-) -> Vec<(String, String)> {
-    let mut a = vec![
+) -> Vec<(String, AttrValue)> {
+    let mut a: Vec<(String, AttrValue)> = vec![
         (
             "steps".to_string(),
-            stats.map_or(accepted, |s| s.steps).to_string(),
+            stats.map_or(accepted, |s| s.steps).into(),
         ),
         (
             "rejected_steps".to_string(),
-            stats.map_or("unknown (the run failed)".to_string(), |s| {
-                s.rejected.to_string()
-            }),
+            stats.map_or("unknown (the run failed)".into(), |s| s.rejected.into()),
         ),
-        ("rhs_evaluations".to_string(), rhs_evaluations.to_string()),
-        ("contact_solves".to_string(), contact_solves.to_string()),
+        ("rhs_evaluations".to_string(), rhs_evaluations.into()),
+        ("contact_solves".to_string(), contact_solves.into()),
         (
             "minimisation_fallbacks".to_string(),
-            fallbacks.minimisation_solves.to_string(),
+            fallbacks.minimisation_solves.into(),
         ),
         (
             "non_hertzian_fallbacks".to_string(),
-            fallbacks.hertz_floor_evaluations.to_string(),
+            fallbacks.hertz_floor_evaluations.into(),
         ),
     ];
     if let Some(s) = stats {
-        a.push(("min_step_s".into(), format!("{:e}", s.min_step_s)));
-        a.push(("max_step_s".into(), format!("{:e}", s.max_step_s)));
+        a.push(("min_step_s".into(), s.min_step_s.into()));
+        a.push(("max_step_s".into(), s.max_step_s.into()));
     }
     if let Some(d) = diagnostic {
-        a.push(("diagnostic".into(), d.headline()));
+        a.push(("diagnostic".into(), d.headline().into()));
     }
     a
 }

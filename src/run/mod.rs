@@ -332,19 +332,30 @@ fn run_session(
     let mut results = recorder.results;
     results.scene_toml = ls.text.clone();
     results.attributes = vec![
-        ("title".into(), scene.title.clone()),
-        ("scene".into(), ls.origin.clone()),
-        ("vehicle".into(), session.vehicle_file.name.clone()),
-        ("creep_law".into(), scene.contact.creep_law.to_string()),
-        ("contact_method".into(), scene.contact.method.to_string()),
-        ("flange_search".into(), scene.contact.flange.to_string()),
-        ("integrator".into(), scene.run.integrator.to_string()),
-        ("speed_m_s".into(), format!("{}", scene.initial.speed_m_s)),
-        ("track".into(), session.track_source.path.clone()),
-        ("plan".into(), plan.to_text()),
+        ("title".into(), scene.title.clone().into()),
+        ("scene".into(), ls.origin.clone().into()),
+        ("vehicle".into(), session.vehicle_file.name.clone().into()),
+        (
+            "creep_law".into(),
+            scene.contact.creep_law.to_string().into(),
+        ),
+        (
+            "contact_method".into(),
+            scene.contact.method.to_string().into(),
+        ),
+        (
+            "flange_search".into(),
+            scene.contact.flange.to_string().into(),
+        ),
+        ("integrator".into(), scene.run.integrator.to_string().into()),
+        ("speed_m_s".into(), scene.initial.speed_m_s.into()),
+        ("track".into(), session.track_source.path.clone().into()),
+        ("plan".into(), plan.to_text().into()),
         (
             "plan_json".into(),
-            serde_json::to_string(plan).context("the plan as JSON")?,
+            serde_json::to_string(plan)
+                .context("the plan as JSON")?
+                .into(),
         ),
         (
             "status".into(),
@@ -357,11 +368,12 @@ fn run_session(
                 (None, Some(s)) if s == INTERRUPTED => INTERRUPTED.to_string(),
                 (None, Some(s)) => format!("stopped: {s}"),
                 (None, None) => crate::run::warnings::completed_status(&warnings),
-            },
+            }
+            .into(),
         ),
         (
             "warnings".into(),
-            crate::run::warnings::warnings_attribute(&warnings),
+            crate::run::warnings::warnings_attribute(&warnings).into(),
         ),
     ];
     let fallbacks = crate::run::diagnostics::FallbackCounts::count(

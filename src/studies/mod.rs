@@ -6,4 +6,5 @@ pub mod compare_tables;
 pub mod contact;
 pub mod creep_curves;
 pub mod critical_speed;
+pub mod run_difference;
 pub mod tradeoff;

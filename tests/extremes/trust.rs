@@ -246,7 +246,7 @@ fn sigterm_stops_a_run_cleanly() {
     let o = child.wait_with_output().expect("sim ends");
     assert_eq!(o.status.code(), Some(130), "{}", stderr(&o));
     let r = runtime::io::schema::read_results(&out).expect("the results so far");
-    assert_eq!(r.attribute("status"), Some("interrupted"));
+    assert_eq!(r.attribute_text("status"), Some("interrupted"));
     assert!(
         files_in(&dir).iter().all(|f| !f.contains(".tmp-")),
         "{:?}",

@@ -114,12 +114,12 @@ fn trust_a_flange_passed_through_with_the_search_off_is_a_warning() {
         r.summary()["warnings"]
     );
     let res = r.results();
-    let status = res.attribute("status").expect("status");
+    let status = res.attribute_text("status").expect("status");
     assert!(
         status.starts_with("completed with warnings: flange passed through its rail"),
         "{status}"
     );
-    let warnings = res.attribute("warnings").expect("warnings attribute");
+    let warnings = res.attribute_text("warnings").expect("warnings attribute");
     assert!(
         warnings.contains("beyond its flangeway clearance 6.8")
             && warnings.contains("contact.flange = \"auto\""),
@@ -139,8 +139,8 @@ fn trust_a_flange_passed_through_with_the_search_off_is_a_warning() {
         "{:?}",
         r.summary()["warnings"]
     );
-    assert_eq!(r.results().attribute("status"), Some("completed"));
-    assert_eq!(r.results().attribute("warnings"), Some("none"));
+    assert_eq!(r.results().attribute_text("status"), Some("completed"));
+    assert_eq!(r.results().attribute_text("warnings"), Some("none"));
     // Pushed through to the derailment check, it is named for what it is.
     let mut o: Vec<&str> = WHEELSET_60M.to_vec();
     o.extend([
@@ -264,10 +264,10 @@ fn trust_airborne_wheels_are_reported_and_cannot_make_a_verdict() {
     );
     assert!(r.warning_kinds().contains(&"airborne".to_string()));
     assert!(
-        res.attribute("status")
+        res.attribute_text("status")
             .is_some_and(|s| s.contains("wheels airborne")),
         "{:?}",
-        res.attribute("status")
+        res.attribute_text("status")
     );
     let text = text_summary(&dir, "wheelset_straight.toml", &o);
     assert!(
@@ -296,7 +296,7 @@ fn trust_a_step_too_large_shows_in_the_energy_balance() {
         coarse.summary()["warnings"]
     );
     let w = coarse.results();
-    let w = w.attribute("warnings").expect("warnings");
+    let w = w.attribute_text("warnings").expect("warnings");
     assert!(w.contains("reduce run.step_s (now 1.2e-3 s)"), "{w}");
     let mut o = base.to_vec();
     o.push("run.step_s=5e-4");
@@ -309,7 +309,7 @@ fn trust_a_step_too_large_shows_in_the_energy_balance() {
         "{:?}",
         fine.summary()["warnings"]
     );
-    assert_eq!(fine.results().attribute("status"), Some("completed"));
+    assert_eq!(fine.results().attribute_text("status"), Some("completed"));
 }
 
 #[test]
@@ -333,17 +333,17 @@ fn trust_a_numerical_blow_up_is_not_called_a_derailment() {
     }
     assert!(!r.stderr.contains(" derailed at"), "{}", r.stderr);
     let res = r.results();
-    let status = res.attribute("status").expect("status");
+    let status = res.attribute_text("status").expect("status");
     assert!(
         status.starts_with("failed: numerical blow-up, not a derailment")
             && status.contains("likely cause"),
         "{status}"
     );
     assert!(
-        res.attribute("diagnostic")
+        res.attribute_text("diagnostic")
             .is_some_and(|d| d.contains("signs of a numerical blow-up")),
         "{:?}",
-        res.attribute("diagnostic")
+        res.attribute_text("diagnostic")
     );
 }
 

@@ -653,9 +653,9 @@ fn sim_run_refuses_or_warns_in_its_summary() {
     // The results file says it too.
     let r = runtime::io::schema::read_results(&dir.join("run.h5")).unwrap();
     assert!(
-        r.attribute("status")
+        r.attribute_text("status")
             .is_some_and(|s| s.contains("input points dropped")),
         "{:?}",
-        r.attribute("status")
+        r.attribute_text("status")
     );
 }

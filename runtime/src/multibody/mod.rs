@@ -17,7 +17,8 @@
 //!   [`ContactSource`] per wheelset (online, table, imported);
 //! - [`table_contact`]: contact from the lookup table instead of Newton;
 //! - [`imported_contact`]: contact from a table computed by another code;
-//! - [`recorder`]: sampled outputs into [`crate::results::RunResults`];
+//! - [`recorder`]: sampled outputs into [`crate::results::RunResults`]
+//!   (the bodies' track-relative states from [`body_record`]);
 //! - [`linear`]: linearisation around the centred run, modes, hunting.
 //!
 //! State: [`crate::multibody::body::BodyState::LEN`] (13) variables per wheelset and
@@ -29,6 +30,7 @@
 
 mod assemble;
 pub mod body;
+pub mod body_record;
 pub mod contact_force;
 pub mod contact_source;
 pub mod element;

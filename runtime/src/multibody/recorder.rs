@@ -4,9 +4,12 @@
 //! (interpolated) state and each wheelset's track-relative position and
 //! each wheel's contacts are appended to a [`RunResults`]; each wheel's Nadal limit (its steepest flange angle and
 //! the run's friction coefficient, [`crate::contact::nadal`]) is stored with
-//! its Y/Q series.
+//! its Y/Q series. Every rigid body's track-relative state (position,
+//! orientation, velocities, ride accelerations) is appended too
+//! (`body_record`, [`crate::results::bodies`]).
 
 use super::DynamicsError;
+use super::body_record::{body_samples, body_series};
 use super::system::{VehicleSystem, WheelsetSnapshot};
 use super::track_motion::track_rotation;
 use crate::contact::SolveMethod;
@@ -25,6 +28,9 @@ pub struct Recorder {
     /// Track distance of each wheelset and rail arc length of each wheel's
     /// contact at the first sample (m).
     origin: Option<Vec<(f64, [f64; 2])>>,
+    /// Each body's track position at the last sample (m; NaN before the
+    /// first), the guess of the next projection.
+    body_s_m: Vec<f64>,
 }
 
 impl Recorder {
@@ -43,9 +49,14 @@ impl Recorder {
                     NadalLimit::of_wheel(spec.contact.wheel(side), friction);
             }
         }
+        let (bodies, car_body) = body_series(system);
+        let body_s_m = vec![f64::NAN; bodies.len()];
+        results.bodies = bodies;
+        results.car_body = car_body;
         Recorder {
             results,
             origin: None,
+            body_s_m,
         }
     }
 
@@ -151,8 +162,9 @@ impl Recorder {
                 wheels,
             });
         }
+        let bodies = body_samples(system, t, &mut self.body_s_m)?;
         self.results
-            .push(t, &samples)
+            .push_sample(t, &samples, &bodies)
             .map_err(|e| DynamicsError::Assembly {
                 wheelset: "(recorder)".into(),
                 reason: e.to_string(),

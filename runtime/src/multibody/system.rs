@@ -167,6 +167,14 @@ impl<'a> VehicleSystem<'a> {
         &self.states
     }
 
+    /// The resultant applied force and moment (contact, suspension, axle
+    /// torque; gravity apart) on every body at the last evaluation, global,
+    /// in the order of [`Self::states`]: the right-hand side's
+    /// accelerations are `force_n / m + g`.
+    pub fn wrenches(&self) -> &[Wrench] {
+        &self.wrenches[..self.states.len()]
+    }
+
     /// Speed of the references at time `t_s` (m/s): the ramp of
     /// [`SystemSettings::speed_ramp`] (constant, braking to a stop or to
     /// a final speed, accelerating).

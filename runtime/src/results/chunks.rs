@@ -79,7 +79,13 @@ impl RunResults {
             wheelsets: Vec::with_capacity(self.wheelsets.len()),
             scene_toml: self.scene_toml.clone(),
             attributes: self.attributes.clone(),
+            bodies: Vec::with_capacity(self.bodies.len()),
+            car_body: self.car_body.clone(),
         };
+        for b in &mut self.bodies {
+            let empty = b.empty_like();
+            chunk.bodies.push(std::mem::replace(b, empty));
+        }
         for ws in &mut self.wheelsets {
             let taken = std::mem::take(ws);
             ws.name = taken.name.clone();
@@ -91,11 +97,21 @@ impl RunResults {
         chunk
     }
 
-    /// Append every sample of `other` (same wheelsets, in order) for which
-    /// `keep(i)` holds, `i` its index in `other`.
+    /// Append every sample of `other` (same wheelsets and bodies, in
+    /// order) for which `keep(i)` holds, `i` its index in `other`.
     pub fn append_where(&mut self, other: &RunResults, keep: impl Fn(usize) -> bool) {
         let picked: Vec<usize> = (0..other.len()).filter(|&i| keep(i)).collect();
         self.time_s.extend(picked.iter().map(|&i| other.time_s[i]));
+        for (b, o) in self.bodies.iter_mut().zip(&other.bodies) {
+            let mut src = Vec::new();
+            o.clone()
+                .for_each_series(&mut |v| src.push(std::mem::take(v)));
+            let mut k = src.iter();
+            b.for_each_series(&mut |v| {
+                let s = k.next().expect("same columns");
+                v.extend(picked.iter().map(|&i| s[i]));
+            });
+        }
         for (ws, o) in self.wheelsets.iter_mut().zip(&other.wheelsets) {
             // Pair the series of both records in the same column order.
             let mut src_f = Vec::new();
@@ -123,6 +139,9 @@ impl RunResults {
     pub fn keep_every(&mut self, stride: usize) {
         let stride = stride.max(1);
         keep_strided(&mut self.time_s, 0, stride);
+        for b in &mut self.bodies {
+            b.for_each_series(&mut |v| keep_strided(v, 0, stride));
+        }
         for ws in &mut self.wheelsets {
             for_each_series(ws, &mut |v| keep_strided(v, 0, stride), &mut |v| {
                 keep_strided(v, 0, stride)

@@ -13,9 +13,14 @@
 //! the wheel**. A zone's f64 values are NaN at samples where it is not in
 //! contact.
 
-pub mod chunks;
+pub mod attribute;
+#[macro_use]
 pub mod columns;
+pub mod bodies;
+pub mod chunks;
 
+pub use attribute::AttrValue;
+pub use bodies::{BODY_COLUMNS, BodyKind, BodySample, BodySeries, CarBody};
 pub use chunks::{DecimatedView, ResultsSink, SinkError};
 pub use columns::{
     Access, Column, Dataset, TIME_S, Values, WHEEL_COLUMNS, WHEELSET_COLUMNS, ZONE_COLUMNS,
@@ -43,9 +48,17 @@ pub struct RunResults {
     /// The scene text as run (TOML, after overrides).
     pub scene_toml: String,
     /// Free-form run metadata written as root attributes (e.g. creep law,
-    /// integrator, speed); values are strings. Names must be non-empty,
-    /// unique and not one of [`RESERVED_ATTRIBUTES`].
-    pub attributes: Vec<(String, String)>,
+    /// integrator, speed): text, numbers (stored as HDF5 numbers) or flags
+    /// ([`AttrValue`]). Names must be non-empty, unique and not one of
+    /// [`RESERVED_ATTRIBUTES`].
+    pub attributes: Vec<(String, AttrValue)>,
+    /// Track-relative state of every rigid body (wheelsets first, then the
+    /// free bodies, in vehicle order), each series the length of `time_s`;
+    /// empty in files written before the bodies were stored
+    /// ([`bodies`]).
+    pub bodies: Vec<BodySeries>,
+    /// Which of `bodies` is the car body, and how it was recognised.
+    pub car_body: Option<CarBody>,
 }
 
 /// Time series of one wheelset (all the length of [`RunResults::time_s`]).
@@ -252,6 +265,12 @@ pub enum ResultsError {
     Attribute { name: String, rule: &'static str },
     #[error("a sample has {found} wheelsets, but the results have {expected}")]
     WheelsetCount { expected: usize, found: usize },
+    #[error("a sample has {found} bodies, but the results have {expected}")]
+    BodyCount { expected: usize, found: usize },
+    #[error("body {index} is named '{name}' like an earlier one; body names must be unique")]
+    BodyName { index: usize, name: String },
+    #[error("the car body '{name}' is not one of the bodies")]
+    CarBody { name: String },
 }
 
 /// The values stored per wheel for one sample ([`WHEEL_COLUMNS`]): the
@@ -411,32 +430,70 @@ impl RunResults {
     }
 
     /// Append the sample at `time_s`: one [`WheelsetSample`] per wheelset,
-    /// in order. Nothing is appended when the count is wrong.
+    /// in order, for results without [`Self::bodies`] (else
+    /// [`Self::push_sample`]). Nothing is appended when a count is wrong.
     pub fn push(&mut self, time_s: f64, samples: &[WheelsetSample]) -> Result<(), ResultsError> {
+        self.push_sample(time_s, samples, &[])
+    }
+
+    /// Append the sample at `time_s`: one [`WheelsetSample`] per wheelset
+    /// and one [`BodySample`] per body, each in order. Nothing is appended
+    /// when a count is wrong.
+    pub fn push_sample(
+        &mut self,
+        time_s: f64,
+        samples: &[WheelsetSample],
+        bodies: &[BodySample],
+    ) -> Result<(), ResultsError> {
         if samples.len() != self.wheelsets.len() {
             return Err(ResultsError::WheelsetCount {
                 expected: self.wheelsets.len(),
                 found: samples.len(),
             });
         }
+        if bodies.len() != self.bodies.len() {
+            return Err(ResultsError::BodyCount {
+                expected: self.bodies.len(),
+                found: bodies.len(),
+            });
+        }
         self.time_s.push(time_s);
         for (ws, s) in self.wheelsets.iter_mut().zip(samples) {
             ws.push(s);
+        }
+        for (b, s) in self.bodies.iter_mut().zip(bodies) {
+            b.push(s);
         }
         Ok(())
     }
 
     /// The value of run attribute `name`, if set.
-    pub fn attribute(&self, name: &str) -> Option<&str> {
+    pub fn attribute(&self, name: &str) -> Option<&AttrValue> {
         self.attributes
             .iter()
             .find(|(k, _)| k == name)
-            .map(|(_, v)| v.as_str())
+            .map(|(_, v)| v)
+    }
+
+    /// The text of run attribute `name`, if set and a text
+    /// ([`AttrValue::Text`]).
+    pub fn attribute_text(&self, name: &str) -> Option<&str> {
+        self.attribute(name).and_then(AttrValue::as_str)
+    }
+
+    /// Set run attribute `name` (replacing a value set before).
+    pub fn set_attribute(&mut self, name: impl Into<String>, value: impl Into<AttrValue>) {
+        let (name, value) = (name.into(), value.into());
+        match self.attributes.iter_mut().find(|(k, _)| *k == name) {
+            Some(slot) => slot.1 = value,
+            None => self.attributes.push((name, value)),
+        }
     }
 
     /// Check that the record is consistent: every series as long as
-    /// `time_s`, times finite and non-decreasing, flags 0 or 1, run
-    /// attribute names non-empty, unique and not reserved.
+    /// `time_s`, times finite and non-decreasing, flags 0 or 1, body names
+    /// non-empty and unique (the car body one of them), run attribute names
+    /// non-empty, unique and not reserved.
     pub fn validate(&self) -> Result<(), ResultsError> {
         let n = self.time_s.len();
         for (index, &value) in self.time_s.iter().enumerate() {
@@ -468,6 +525,25 @@ impl RunResults {
                     }
                 }
             }
+        }
+        for (k, b) in self.bodies.iter().enumerate() {
+            let g = format!("bodies/{}", b.name);
+            for c in &BODY_COLUMNS {
+                check_column(n, &g, c, b)?;
+            }
+            if b.name.is_empty() || self.bodies[..k].iter().any(|o| o.name == b.name) {
+                return Err(ResultsError::BodyName {
+                    index: k,
+                    name: b.name.clone(),
+                });
+            }
+        }
+        if let Some(c) = &self.car_body
+            && !self.bodies.iter().any(|b| b.name == c.name)
+        {
+            return Err(ResultsError::CarBody {
+                name: c.name.clone(),
+            });
         }
         for (k, (name, _)) in self.attributes.iter().enumerate() {
             let bad = |rule| {

@@ -2,31 +2,16 @@
 //! reference: the lateral displacement's errors, the hunting frequency,
 //! the growth rate and the peak forces; the Pareto front.
 
-use anyhow::{Result, bail, ensure};
+use anyhow::Result;
 use runtime::results::RunResults;
 
 use super::{Errors, Measures};
 use crate::studies::critical_speed::growth_rate;
+use crate::studies::run_difference::{Abscissa, lateral_difference_by};
 
 /// Amplitudes below this are not motion (m): zero crossings after the
 /// motion has died out are not counted.
 const NOISE_M: f64 = 1e-7;
-
-/// Linear interpolation of samples `(t, y)` at `x` (t increasing, x within).
-fn interpolate(t: &[f64], y: &[f64], x: f64) -> f64 {
-    let i = t.partition_point(|&v| v <= x);
-    if i == 0 {
-        return y[0];
-    }
-    if i >= t.len() {
-        return y[t.len() - 1];
-    }
-    let (t0, t1) = (t[i - 1], t[i]);
-    if t1 <= t0 {
-        return y[i - 1];
-    }
-    y[i - 1] + (y[i] - y[i - 1]) * (x - t0) / (t1 - t0)
-}
 
 /// Hunting frequency (Hz) from the zero crossings (both ways, linearly
 /// interpolated) of `y(t)` while the motion lasts (|y| above 1e-3 of its
@@ -93,48 +78,17 @@ pub fn measures(r: &RunResults, skip_s: f64) -> Measures {
 }
 
 /// Max and RMS of wheelset `wheelset`'s lateral difference (m) between
-/// `run` and `reference` (0 = the leading wheelset), over the reference's
-/// samples within the run's span (the run interpolated linearly at them),
-/// and that span (s).
+/// `run` and `reference` (0 = the leading wheelset) at equal time (runs of
+/// one scene at one speed: the same time is the same place), over the
+/// reference's samples within the run's span, and that span (s); the
+/// shared helper [`crate::studies::run_difference`].
 pub fn lateral_difference(
     reference: &RunResults,
     run: &RunResults,
     wheelset: usize,
 ) -> Result<(f64, f64, f64)> {
-    let (wr, wv) = match (
-        reference.wheelsets.get(wheelset),
-        run.wheelsets.get(wheelset),
-    ) {
-        (Some(a), Some(b)) => (a, b),
-        _ => bail!("wheelset {wheelset} is not in both runs"),
-    };
-    ensure!(
-        run.time_s.len() >= 2,
-        "the run has {} samples, too few to compare",
-        run.time_s.len()
-    );
-    let (t0, t1) = (run.time_s[0], run.time_s[run.time_s.len() - 1]);
-    let (mut max, mut sum2, mut n) = (0.0_f64, 0.0, 0usize);
-    let (mut first, mut last) = (f64::NAN, f64::NAN);
-    for (&t, &yr) in reference.time_s.iter().zip(&wr.lateral_m) {
-        if t < t0 - 1e-12 || t > t1 + 1e-12 {
-            continue;
-        }
-        let d = interpolate(&run.time_s, &wv.lateral_m, t) - yr;
-        ensure!(
-            d.is_finite(),
-            "the lateral displacement is not finite at t = {t} s"
-        );
-        max = max.max(d.abs());
-        sum2 += d * d;
-        n += 1;
-        if first.is_nan() {
-            first = t;
-        }
-        last = t;
-    }
-    ensure!(n > 0, "the run and the reference have no common time span");
-    Ok((max, (sum2 / n as f64).sqrt(), last - first))
+    let d = lateral_difference_by(reference, run, wheelset, Abscissa::Time)?;
+    Ok((d.max_m, d.rms_m, d.span()))
 }
 
 /// Errors of `run` against `reference` (module docs).

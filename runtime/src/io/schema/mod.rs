@@ -41,6 +41,7 @@ mod attrs;
 mod columns;
 mod contact_table;
 mod imported;
+mod results_bodies;
 mod results_file;
 mod results_writer;
 mod track;
@@ -117,7 +118,7 @@ pub enum SchemaError {
         found: Option<String>,
     },
     #[error(
-        "'{path}' has results schema version {found}, which this build does not read (it reads version {supported}); read it with the version of sim that wrote it"
+        "'{path}' has results schema version {found}, which this build does not read (it reads versions 1 to {supported}); read it with the version of sim that wrote it"
     )]
     UnsupportedResultsVersion {
         path: PathBuf,

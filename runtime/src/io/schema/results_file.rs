@@ -2,16 +2,17 @@
 //! contact zone of a run, in HDF5 (the public format engineers open with
 //! h5py, h5dump or MATLAB).
 //!
-//! # Layout (results schema version 1)
+//! # Layout (results schema version 2)
 //!
 //! ```text
 //! /                              root attributes:
 //!                                  schema = "railsim-results"   (string)
-//!                                  schema_version = 1           (u32)
+//!                                  schema_version = 2           (u32)
 //!                                  tool = "sim", tool_version   (strings; the crate version)
-//!                                  <key> = <value>              (strings: the run's free-form
-//!                                                                metadata, e.g. creep_law,
-//!                                                                integrator, speed_m_s)
+//!                                  <key> = <value>              (the run's free-form metadata,
+//!                                                                typed: strings, f64, i64,
+//!                                                                booleans, e.g. creep_law,
+//!                                                                speed_m_s = 22.0, steps)
 //! /time_s                        1-D f64 [n], units "s"
 //! /scene                         scalar string: the scene TOML as run (after overrides)
 //! /wheelset_<i>/                 i = 0, 1, … in vehicle order (front first);
@@ -64,6 +65,9 @@
 //!                                fallback (nearly conformal, Newton's Jacobian singular;
 //!                                `runtime::contact`), 2 = non-Hertzian geometry, ellipse
 //!                                from floored curvatures (`NonHertzianPolicy::Floor`); 0 none
+//! /bodies/<name>/                every rigid body's track-relative state (position,
+//!                                yaw–roll–pitch, velocities, ride accelerations); layout in
+//!                                `results_bodies`, definitions in [`crate::results::bodies`]
 //! ```
 //!
 //! Every dataset has the same length n as `/time_s`, a `units` attribute
@@ -78,22 +82,30 @@
 //! `l_c = n_c × t_c`; forces and moments are those acting **on the wheel**.
 //! A zone's f64 values are NaN at samples where it is not in contact.
 //!
-//! `y_n`, `q_n`, `y_over_q`, `lead_m` and `fallback` were added after the
-//! first files of version 1 were written (`Column::added_later`): the
-//! reader fills them (Y, Q and Y/Q from the zones, NaN leads, no
-//! fallbacks) when a file lacks them.
+//! # Versions
+//!
+//! `y_n`, `q_n`, `y_over_q`, `lead_m`, `fallback` and `track_s_m` were
+//! added after the first files of version 1 were written
+//! (`Column::added_later`): the reader fills them (Y, Q and Y/Q from the
+//! zones, NaN leads, no fallbacks, NaN track positions) when a file lacks
+//! them. Version 2 stores the run attributes typed
+//! ([`crate::results::AttrValue`]; a version-1 reader reads every root
+//! attribute as a string and would fail on a number, hence the bump) and
+//! adds `bodies/`. This build writes version 2 and reads versions 1 and 2:
+//! a version-1 file's string attributes stay text and it has no bodies.
 //!
 //! Datasets are uncompressed, chunked ([`super::RESULTS_CHUNK_SAMPLES`]
 //! samples per chunk) and extendable: `sim run` appends the samples while
 //! the run goes on ([`super::ResultsWriter`]), so its memory does not grow
-//! with the run's length (a 13.5 s run sampled at 1 kHz with two wheelsets
-//! is about 12 MB). Root attribute creation order is
+//! with the run's length (about 1.6 kB a sample for two wheelsets and
+//! three bodies: a 13.5 s run sampled at 1 kHz is about 22 MB; docs/reference/04-table-files.md
+//! §4.4). Root attribute creation order is
 //! tracked, so the run metadata reads back in the order it was written.
 //! The file is written atomically ([`AtomicFile`]): nothing appears at the
 //! destination unless the whole file was written.
 //!
 //! The reader refuses a file whose `schema` is not `railsim-results` or
-//! whose `schema_version` it does not know. Readers look datasets up by
+//! whose `schema_version` is outside 1 ..= [`RESULTS_SCHEMA_VERSION`]. Readers look datasets up by
 //! name: later versions may add datasets or attributes without breaking
 //! this reader; anything that changes the meaning of an existing one bumps
 //! [`RESULTS_SCHEMA_VERSION`].
@@ -116,15 +128,16 @@ use super::results_writer::ResultsWriter;
 use super::{SchemaError, attrs};
 use crate::contact::nadal::NadalLimit;
 use crate::results::{
-    Column, RESERVED_ATTRIBUTES, RunResults, TIME_S, Values, WHEEL_COLUMNS, WHEEL_GROUPS,
-    WHEELSET_COLUMNS, WheelValues, WheelsetSample, WheelsetSeries, ZONE_COLUMNS, ZONE_GROUPS,
-    ZoneSample, wheelset_group,
+    AttrValue, Column, RESERVED_ATTRIBUTES, RunResults, TIME_S, Values, WHEEL_COLUMNS,
+    WHEEL_GROUPS, WHEELSET_COLUMNS, WheelValues, WheelsetSample, WheelsetSeries, ZONE_COLUMNS,
+    ZONE_GROUPS, ZoneSample, wheelset_group,
 };
 
 /// Value of the root attribute `schema` of a results file.
 pub const RESULTS_SCHEMA: &str = "railsim-results";
-/// Version of the results layout this build writes and reads.
-pub const RESULTS_SCHEMA_VERSION: u32 = 1;
+/// Version of the results layout this build writes; it reads every
+/// version from 1 to this one (module docs, "Versions").
+pub const RESULTS_SCHEMA_VERSION: u32 = 2;
 /// Value of the root attribute `tool`.
 pub const RESULTS_TOOL: &str = "sim";
 
@@ -184,7 +197,7 @@ pub fn write_results(path: &Path, results: &RunResults) -> Result<(), SchemaErro
 // ---------------------------------------------------------------------------
 // Reading
 /// Read a 1-D dataset `group/name` of exactly `n` values.
-fn read_series<T: hdf5::H5Type>(
+pub(super) fn read_series<T: hdf5::H5Type>(
     path: &Path,
     group: &hdf5::Group,
     name: &str,
@@ -219,11 +232,15 @@ fn read_series<T: hdf5::H5Type>(
 }
 
 /// Whether `group` has a member `name`.
-fn has(group: &hdf5::Group, name: &str) -> bool {
+pub(super) fn has(group: &hdf5::Group, name: &str) -> bool {
     group.link_exists(name)
 }
 
-fn open_group(path: &Path, parent: &hdf5::Group, name: &str) -> Result<hdf5::Group, SchemaError> {
+pub(super) fn open_group(
+    path: &Path,
+    parent: &hdf5::Group,
+    name: &str,
+) -> Result<hdf5::Group, SchemaError> {
     parent.group(name).map_err(|_| SchemaError::Missing {
         path: path.to_path_buf(),
         what: format!("group {}/{name}", parent.name().trim_end_matches('/')),
@@ -250,7 +267,7 @@ fn open_results(path: &Path) -> Result<hdf5::File, SchemaError> {
         });
     }
     let found: u32 = attrs::read(path, &file, "the file", "schema_version")?;
-    if found != RESULTS_SCHEMA_VERSION {
+    if !(1..=RESULTS_SCHEMA_VERSION).contains(&found) {
         return Err(SchemaError::UnsupportedResultsVersion {
             path: path.to_path_buf(),
             found,
@@ -266,7 +283,7 @@ fn open_results(path: &Path) -> Result<hdf5::File, SchemaError> {
 fn read_run_attributes(
     path: &Path,
     file: &hdf5::File,
-) -> Result<Vec<(String, String)>, SchemaError> {
+) -> Result<Vec<(String, AttrValue)>, SchemaError> {
     let by_creation = file
         .attr_names_by(IndexType::CreationOrder, IterationOrder::Increasing)
         .ok();
@@ -280,7 +297,7 @@ fn read_run_attributes(
         .into_iter()
         .filter(|n| !RESERVED_ATTRIBUTES.contains(&n.as_str()))
         .map(|name| {
-            let value = attrs::read_str(path, file, "the file", &name)?;
+            let value = attrs::read_value(path, file, "the file", &name)?;
             Ok((name, value))
         })
         .collect()
@@ -290,7 +307,7 @@ fn read_run_attributes(
 /// (`n` values each). A column added later that the file lacks is left
 /// out and returned, for [`fill_columns`]; any other missing one is an
 /// error.
-fn read_columns<'c, S, V>(
+pub(super) fn read_columns<'c, S, V>(
     path: &Path,
     group: &hdf5::Group,
     columns: &'c [Column<S, V>],
@@ -412,11 +429,14 @@ pub fn read_results(path: &Path) -> Result<RunResults, SchemaError> {
         }
         wheelsets.push(ws);
     }
+    let (bodies, car_body) = super::results_bodies::read(path, &file, n)?;
     let results = RunResults {
         time_s,
         wheelsets,
         scene_toml,
         attributes,
+        bodies,
+        car_body,
     };
     results
         .validate()

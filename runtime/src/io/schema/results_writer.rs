@@ -32,6 +32,8 @@ pub struct ResultsWriter {
     file: hdf5::File,
     /// Wheelset groups made (with the first chunk).
     wheelsets: Option<usize>,
+    /// Names of the body groups made with the wheelset groups (`bodies/`).
+    body_groups: Vec<String>,
     written: usize,
     last_time_s: Option<f64>,
 }
@@ -76,7 +78,7 @@ fn append_series<T: hdf5::H5Type>(
     Ok(())
 }
 
-fn create_columns<S, V>(
+pub(super) fn create_columns<S, V>(
     path: &Path,
     group: &hdf5::Group,
     columns: &[Column<S, V>],
@@ -90,7 +92,7 @@ fn create_columns<S, V>(
     Ok(())
 }
 
-fn append_columns<S, V>(
+pub(super) fn append_columns<S, V>(
     path: &Path,
     group: &hdf5::Group,
     columns: &[Column<S, V>],
@@ -108,7 +110,11 @@ fn append_columns<S, V>(
     Ok(())
 }
 
-fn create_group(path: &Path, parent: &hdf5::Group, name: &str) -> Result<hdf5::Group, SchemaError> {
+pub(super) fn create_group(
+    path: &Path,
+    parent: &hdf5::Group,
+    name: &str,
+) -> Result<hdf5::Group, SchemaError> {
     parent
         .create_group(name)
         .map_err(hdf5_err(path, format!("creating group {name}")))
@@ -146,6 +152,7 @@ impl ResultsWriter {
             atomic,
             file,
             wheelsets: None,
+            body_groups: Vec::new(),
             written: 0,
             last_time_s: None,
         })
@@ -187,6 +194,7 @@ impl ResultsWriter {
                 }
             }
         }
+        self.body_groups = super::results_bodies::create(path, &self.file, record)?;
         self.wheelsets = Some(record.wheelsets.len());
         Ok(())
     }
@@ -222,7 +230,17 @@ impl ResultsWriter {
         }
         self.ensure_wheelsets(chunk)?;
         let path = &self.path;
+        if chunk.bodies.len() != self.body_groups.len() {
+            return Err(SchemaError::InvalidResults {
+                path: path.to_path_buf(),
+                source: crate::results::ResultsError::BodyCount {
+                    expected: self.body_groups.len(),
+                    found: chunk.bodies.len(),
+                },
+            });
+        }
         let from = self.written;
+        super::results_bodies::append(path, &self.file, &self.body_groups, &chunk.bodies, from)?;
         append_series(path, &self.file, TIME_S.name, from, &chunk.time_s)?;
         for (i, ws) in chunk.wheelsets.iter().enumerate() {
             let g = open_group(path, &self.file, &wheelset_group(i))?;
@@ -254,6 +272,8 @@ impl ResultsWriter {
         self.last_time_s = None;
         let path = self.path.clone();
         append_series::<f64>(&path, &self.file, TIME_S.name, 0, &[])?;
+        let no_bodies = vec![crate::results::BodySeries::default(); self.body_groups.len()];
+        super::results_bodies::append(&path, &self.file, &self.body_groups, &no_bodies, 0)?;
         for (i, ws) in empty.wheelsets.iter().enumerate() {
             let g = open_group(&path, &self.file, &wheelset_group(i))?;
             append_columns(&path, &g, &WHEELSET_COLUMNS, ws, 0)?;
@@ -287,7 +307,7 @@ impl ResultsWriter {
         self.ensure_wheelsets(record)?;
         let path = self.path;
         for (name, value) in &record.attributes {
-            attrs::write_str(&path, &self.file, name, value)?;
+            attrs::write_value(&path, &self.file, name, value)?;
         }
         super::results_file::write_scene(&path, &self.file, &record.scene_toml)?;
         self.file.close().map_err(hdf5_err(&path, "closing"))?;
