@@ -5,6 +5,8 @@
 pub mod choices;
 pub mod load;
 pub mod scene;
+pub mod statics;
+pub mod suspension;
 pub mod variation;
 pub mod vehicle;
 
