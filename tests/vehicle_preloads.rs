@@ -147,6 +147,14 @@ fn run_with(
     }
     let o = run(&mut cmd);
     assert!(o.status.success(), "{}", stderr(&o));
+    // `sim run` prints the preload table before the run.
+    let text = stdout(&o);
+    assert!(
+        text.contains("static preloads, solved for static equilibrium")
+            || text.contains("static preloads, as given"),
+        "{text}"
+    );
+    assert!(text.contains("residual on '"), "{text}");
     out
 }
 

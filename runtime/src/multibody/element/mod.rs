@@ -712,4 +712,78 @@ mod tests {
             assert!((grad + spring).abs() < 1e-6, "axis {i}: {grad} vs {spring}");
         }
     }
+
+    /// Nonlinear additions along a's y: at rest with δ_y = 20 mm, a bump
+    /// stop (15 mm, 2 MN/m) adds 10 kN, a series element (k_s 1 MN/m) with
+    /// stroke q = 5 mm adds 15 kN and reports q̇ = k_s (δ − q)/c_s; moving
+    /// at 0.05 m/s a bilinear damper (c₁ 1e5 to 0.02 m/s, c₂ 1e4) adds
+    /// 2 kN + 0.3 kN. The energy's gradient is the spring part of −f.
+    #[test]
+    fn nonlinear_axis_adds_to_the_linear_force() {
+        let mut e = element();
+        e.preload_n = Vector3::zeros();
+        e.reference_offset_m = Vector3::zeros();
+        e.point_b_m = Vector3::zeros();
+        e.point_a_m = Vector3::zeros();
+        e = e
+            .with_laws([
+                AxisLaws::default(),
+                AxisLaws {
+                    spring: Some(SpringLaw::BumpStop {
+                        clearance_m: 0.015,
+                        stiffness_n_m: 2e6,
+                    }),
+                    damper: Some(DamperLaw::Bilinear {
+                        damping_n_s_m: 1e5,
+                        blow_off_m_s: 0.02,
+                        damping_beyond_n_s_m: 1e4,
+                    }),
+                    series: Some(SeriesLaw {
+                        stiffness_n_m: 1e6,
+                        damping_n_s_m: 1e4,
+                    }),
+                },
+                AxisLaws::default(),
+            ])
+            .unwrap();
+        assert_eq!(e.internal_len(), 1);
+        let a = Anchor::fixed(Vector3::zeros(), Matrix3::identity());
+        let mut b = Anchor::fixed(Vector3::new(0.0, 0.02, 0.0), Matrix3::identity());
+        let q = [0.005];
+        let f = e.evaluate(&a, &b, &q);
+        let linear = 2e5 * 0.02;
+        let expected = -(linear + 1e4 + 1e6 * 0.015);
+        assert!(
+            (f.force_on_b_n.y - expected).abs() < 1e-6,
+            "{}",
+            f.force_on_b_n
+        );
+        assert!((f.internal_rate_m_s[0] - 1e6 * 0.015 / 1e4).abs() < 1e-12);
+        b.velocity_m_s.y = 0.05;
+        let g = e.evaluate(&a, &b, &q);
+        let damping = 2e3 * 0.05 + 1e5 * 0.02 + 1e4 * 0.03;
+        assert!((g.force_on_b_n.y - (expected - damping)).abs() < 1e-6);
+        let p = e.dissipated_power_w(&g.deflection_m, &g.rate_m_s, &q);
+        let series = 1.5e4 * 1.5e4 / 1e4;
+        assert!((p - (2e3 * 0.05 * 0.05 + 2.3e3 * 0.05 + series)).abs() < 1e-6);
+        // dU/dδ_y = −(spring part of f_y) at q fixed.
+        let h = 1e-7;
+        let d = f.deflection_m;
+        let u = |dy: f64| e.potential_energy_j(&(d + Vector3::new(0.0, dy, 0.0)), &q);
+        let grad = (u(h) - u(-h)) / (2.0 * h);
+        assert!((grad + expected).abs() < 1e-3, "{grad} vs {expected}");
+        // A bad law is refused with its axis.
+        let bad = element().with_laws([
+            AxisLaws::default(),
+            AxisLaws::default(),
+            AxisLaws {
+                series: Some(SeriesLaw {
+                    stiffness_n_m: 0.0,
+                    damping_n_s_m: 1.0,
+                }),
+                ..Default::default()
+            },
+        ]);
+        assert!(matches!(bad, Err(ElementError::Law { axis: 2, .. })));
+    }
 }
