@@ -429,6 +429,7 @@ impl VehicleFile {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::config::statics::PreloadMode;
 
     const WHEELSET: &str = r#"
         name = "test wheelset"
@@ -487,15 +488,106 @@ mod tests {
         v.validate().unwrap();
         let load = v.static_wheel_load_n(&v.wheelsets[0]);
         assert!((load - 0.5 * 3000.0 * GRAVITY_M_S2).abs() < 1e-6);
+        // With preload = "given" (the old behaviour) a preload that does
+        // not carry the frame is refused with the net force.
         let bad = text.replace("PRELOAD", "-1000.0");
-        let e = VehicleFile::parse(&bad).unwrap().validate().unwrap_err();
-        assert!(e.to_string().contains("static equilibrium"), "{e}");
-        assert!(e.to_string().contains("frame"), "{e}");
+        let given = format!("preload = \"given\"\n{bad}");
+        let e = VehicleFile::parse(&given).unwrap().validate().unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("body 'frame' is not in static equilibrium at assembly: net force"),
+            "{e}"
+        );
+        // Solved (the default): the spring carries the frame whatever
+        // preload_n says beyond it (−1000 N kept as a constant force on
+        // the wheelset, the spring's deflection adds the rest).
+        let mut v = VehicleFile::parse(&bad).unwrap();
+        v.resolve().unwrap();
+        let p = v.element_preloads_n()[0][2];
+        assert!((p + 2000.0 * GRAVITY_M_S2).abs() < 1e-6, "{p}");
         let unknown = ok.replace("body_b = \"ws\"", "body_b = \"rear\"");
         let e = VehicleFile::parse(&unknown)
             .unwrap()
             .validate()
             .unwrap_err();
         assert!(e.to_string().contains("unknown body 'rear'"), "{e}");
+    }
+
+    /// A bump stop, a yaw damper with its bushes and a constant force in a
+    /// vehicle file: parsed, solved (the bump stop in its clearance and the
+    /// series element carry no static force, the constant force is kept),
+    /// and the new rules named.
+    #[test]
+    fn nonlinear_elements_and_constant_forces_in_a_file() {
+        let text = format!(
+            "{WHEELSET}
+            [[bodies]]
+            name = \"frame\"
+            cg_m = [0.0, 0.0, 0.6]
+            mass_kg = 2000.0
+            inertia_kg_m2 = [1000.0, 1000.0, 1500.0]
+            [[elements]]
+            name = \"spring\"
+            body_a = \"frame\"
+            body_b = \"ws\"
+            point_m = [0.0, 0.0, 0.43]
+            stiffness_n_m = [1e6, 1e6, 1e6]
+            [elements.spring.y]
+            kind = \"bump_stop\"
+            clearance_m = 0.02
+            stiffness_n_m = 5e6
+            [[elements]]
+            name = \"yaw damper\"
+            body_a = \"frame\"
+            body_b = \"ws\"
+            point_m = [0.0, 1.2, 0.43]
+            [elements.damper.x]
+            kind = \"bilinear\"
+            damping_n_s_m = 2e6
+            blow_off_m_s = 0.02
+            damping_beyond_n_s_m = 1e5
+            [elements.series.x]
+            stiffness_n_m = 6e6
+            damping_n_s_m = 2e6
+            [[elements]]
+            name = \"ballast\"
+            body_a = \"ground\"
+            body_b = \"frame\"
+            point_m = [0.0, 0.0, 0.6]
+            preload_n = [0.0, 0.0, -1000.0]
+            "
+        );
+        let mut v = VehicleFile::parse(&text).unwrap();
+        assert_eq!(v.preload, PreloadMode::Solve);
+        v.resolve().unwrap();
+        let p = v.element_preloads_n();
+        // The spring carries the frame's weight and the 1 kN ballast.
+        assert!(
+            (p[0][2] + 2000.0 * GRAVITY_M_S2 + 1000.0).abs() < 1e-6,
+            "{p:?}"
+        );
+        assert_eq!(p[1], [0.0; 3]);
+        assert_eq!(p[2], [0.0, 0.0, -1000.0]);
+        let load = v.static_wheel_load_n(&v.wheelsets[0]);
+        assert!((load - 0.5 * (3000.0 * GRAVITY_M_S2 + 1000.0)).abs() < 1e-6);
+        // An element that does nothing; a carried mass in grams.
+        let idle = text.replace("preload_n = [0.0, 0.0, -1000.0]", "");
+        let e = VehicleFile::parse(&idle).unwrap().validate().unwrap_err();
+        assert!(e.to_string().contains("element 'ballast'"), "{e}");
+        assert!(e.to_string().contains("does nothing"), "{e}");
+        let heavy = format!(
+            "{text}
+            [[references]]
+            name = \"car\"
+            origin_m = [0.0, 0.0, 1.5]
+            carried_mass_kg = 1.4e7"
+        );
+        let e = VehicleFile::parse(&heavy).unwrap().validate().unwrap_err();
+        assert!(e.to_string().contains("carried_mass_kg"), "{e}");
+        assert!(e.to_string().contains("check the unit"), "{e}");
+        // A typo in the mode is a parse error naming the choices.
+        let typo = format!("preload = \"solved\"\n{text}");
+        let e = VehicleFile::parse(&typo).unwrap_err();
+        assert!(format!("{e:#}").contains("solve"), "{e:#}");
     }
 }
