@@ -163,3 +163,28 @@ fn series_element_alone_dissipates() {
         "{residual} of {dissipated}"
     );
 }
+
+/// The linearisation does not include internal states: a vehicle with a
+/// series element is refused with the rule, not linearised wrongly.
+#[test]
+fn linearisation_refuses_internal_states() {
+    let v = vehicle(AxisLaws {
+        series: Some(SeriesLaw {
+            stiffness_n_m: 5e5,
+            damping_n_s_m: 5e3,
+        }),
+        ..Default::default()
+    });
+    let track = wheelsets::straight_track_for(&v.wheelsets[0].contact, 100.0);
+    let settings = SystemSettings {
+        speed_m_s: 10.0,
+        s_start_m: 5.0,
+        ..Default::default()
+    };
+    let (mut system, y0) =
+        VehicleSystem::assemble(&track, &v, settings, InitialConditions::default()).unwrap();
+    let Err(e) = runtime::multibody::linear::linearise(&mut system, &y0) else {
+        panic!("a vehicle with internal states was linearised");
+    };
+    assert!(e.to_string().contains("internal states"), "{e}");
+}

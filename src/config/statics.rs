@@ -45,8 +45,8 @@ fn arr(v: &Vector3<f64>) -> [f64; 3] {
 }
 
 impl VehicleFile {
-    /// The free bodies of the static solve and the index of each name:
-    /// the bodies, then the references with a carried mass.
+    /// The free bodies of the static solve: the bodies, then the
+    /// references with a carried mass (a body's index is its position).
     fn static_bodies(&self) -> Vec<StaticBody> {
         let bodies = self.bodies.iter().map(|b| StaticBody {
             name: b.name.clone(),

@@ -63,8 +63,8 @@
 //! in a coil spring's shear stiffness without its bending stiffness); it is
 //! small for short elements.
 //!
-//! [`SpringDamper::potential_energy_j`], U = ½ Σ kᵢ (Δᵢ − Δ₀ᵢ)² − f₀·(Δ − Δ₀)
-//! + Σ ∫₀^δᵢ S + Σ ½ k_sᵢ (δᵢ − qᵢ)², satisfies f·Δ̇ = −dU/dt − P_diss with
+//! [`SpringDamper::potential_energy_j`], U = ½ Σ kᵢ (Δᵢ − Δ₀ᵢ)² − f₀·(Δ − Δ₀) +
+//! Σ ∫₀^δᵢ S + Σ ½ k_sᵢ (δᵢ − qᵢ)², satisfies f·Δ̇ = −dU/dt − P_diss with
 //! [`SpringDamper::dissipated_power_w`] P_diss = Σ cᵢ Δ̇ᵢ² + Σ D(vᵢ) vᵢ +
 //! Σ k_sᵢ² (δᵢ − qᵢ)² / c_sᵢ ≥ 0 (the series damper's c_s q̇², [`series`]). The power the
 //! element delivers to the two anchors is
@@ -377,8 +377,8 @@ impl SpringDamper {
     }
 
     /// Potential energy (J) for a deflection δ = Δ − Δ₀ (a's axes, m) and
-    /// the internal states `internal_m`: ½ Σ kᵢ δᵢ² − f₀·δ + Σ ∫₀^δᵢ Sᵢ
-    /// + Σ ½ k_sᵢ (δᵢ − qᵢ)²; zero at the reference configuration. Exact
+    /// the internal states `internal_m`: ½ Σ kᵢ δᵢ² − f₀·δ + Σ ∫₀^δᵢ Sᵢ +
+    /// Σ ½ k_sᵢ (δᵢ − qᵢ)²; zero at the reference configuration. Exact
     /// potential of the element when anchor a does not rotate (module
     /// docs).
     pub fn potential_energy_j(&self, deflection_m: &Vector3<f64>, internal_m: &[f64]) -> f64 {
