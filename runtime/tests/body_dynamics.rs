@@ -266,7 +266,9 @@ impl Hanging {
     /// y = [body ([`BodyState::LEN`]), ∫ P_diss dt (J)].
     fn rhs(&self, y: &[f64], dy: &mut [f64]) {
         let s = BodyState::read_from(y);
-        let f = self.spring.evaluate(&self.ground, &Anchor::from_body(&s));
+        let f = self
+            .spring
+            .evaluate(&self.ground, &Anchor::from_body(&s), &[]);
         let mut w_ground = Wrench::zero();
         let mut w = Wrench::zero();
         f.add_to_wrenches(
@@ -276,15 +278,19 @@ impl Hanging {
             &s.position_m,
         );
         derivatives(&self.body, &s, &w, &G, dy);
-        dy[BodyState::LEN] = self.spring.dissipated_power_w(&f.rate_m_s);
+        dy[BodyState::LEN] = self
+            .spring
+            .dissipated_power_w(&f.deflection_m, &f.rate_m_s, &[]);
     }
 
     fn energy_j(&self, y: &[f64]) -> f64 {
         let s = BodyState::read_from(y);
-        let f = self.spring.evaluate(&self.ground, &Anchor::from_body(&s));
+        let f = self
+            .spring
+            .evaluate(&self.ground, &Anchor::from_body(&s), &[]);
         s.kinetic_energy_j(&self.body)
             + s.potential_energy_j(&self.body, &G)
-            + self.spring.potential_energy_j(&f.deflection_m)
+            + self.spring.potential_energy_j(&f.deflection_m, &[])
             - self.equilibrium_energy_j
     }
 }
@@ -412,7 +418,7 @@ fn two_free_bodies_reduced_mass() {
             BodyState::read_from(&y[..BodyState::LEN]),
             BodyState::read_from(&y[BodyState::LEN..]),
         );
-        let f = spring.evaluate(&Anchor::from_body(&a), &Anchor::from_body(&b));
+        let f = spring.evaluate(&Anchor::from_body(&a), &Anchor::from_body(&b), &[]);
         let (mut wa, mut wb) = (Wrench::zero(), Wrench::zero());
         f.add_to_wrenches(&mut wa, &a.position_m, &mut wb, &b.position_m);
         derivatives(&b1, &a, &wa, &Vector3::zeros(), &mut dy[..BodyState::LEN]);

@@ -192,6 +192,13 @@ pub fn run(cli: Cli) -> Result<()> {
     }
 }
 
+/// The vehicle's static preloads and residuals (docs/reference/08-multibody.md §8.3),
+/// as `sim run` prints them before the run.
+fn static_preload_text(scene: &crate::config::scene::LoadedScene) -> Result<String> {
+    let v = crate::config::vehicle::VehicleFile::load(&scene.path(&scene.scene.vehicle.file))?;
+    Ok(v.statics.as_ref().map_or(String::new(), |s| s.table(&v)))
+}
+
 fn run_command(args: &RunArgs) -> Result<()> {
     let req = args.to_request()?;
     check_scene_rail(&req.scene)?;
@@ -206,6 +213,7 @@ fn run_command(args: &RunArgs) -> Result<()> {
     }
     if !args.json {
         print!("{}", plan.to_text());
+        print!("{}", static_preload_text(&req.scene)?);
     }
     let stop = preproc::cli::stop_on_signal(false);
     let bar = if args.quiet || args.json {

@@ -6,6 +6,8 @@ pub mod choices;
 pub mod load;
 pub mod overrides;
 pub mod scene;
+pub mod statics;
+pub mod suspension;
 pub mod variation;
 pub mod vehicle;
 

@@ -36,27 +36,38 @@
 //! name = "car"
 //! origin_m = [0.0, 0.0, 1.5]       # origin of its axes (m)
 //!
-//! [[elements]]                     # linear spring–dampers
+//! [[elements]]                     # spring–dampers
 //! name = "primary front left"
 //! body_a = "frame"                 # its axes give the x, y, z of stiffness and damping
 //! body_b = "front"                 # a body, wheelset or reference name
 //! point_m = [1.0, 1.0, 0.43]       # attachment point (or point_a_m and point_b_m)
 //! stiffness_n_m = [1.0e7, 5.0e6, 1.2e6]
 //! damping_n_s_m = [0.0, 0.0, 1.0e4]
-//! preload_n = [0.0, 0.0, -45000.0] # force on body_b at assembly, in body_a's axes
+//! preload_n = [0.0, 0.0, 0.0]      # a constant force on body_b, body_a's axes (optional)
 //! ```
 //!
-//! `body_a` or `body_b` may also be `"ground"` (a fixed point). Element
-//! preloads must hold every free body in static equilibrium at assembly
-//! (checked by [`VehicleFile::validate`], which names the body and the net
-//! force); wheelsets take their static wheel loads from the elements acting
-//! on them plus their own weight.
+//! `body_a` or `body_b` may also be `"ground"` (a fixed point). Nonlinear
+//! parts per axis (`spring.x`, `damper.y`, `series.z`, …):
+//! [`super::suspension`]. A reference may carry a mass for the static
+//! solve (`carried_mass_kg`).
+//!
+//! Preloads (`preload = "solve" | "given"` at the top level,
+//! [`super::statics`]): by default the preload of every element is solved
+//! for static equilibrium at assembly (each `preload_n` is kept as a
+//! constant force and the rest follows from the stiffnesses); with
+//! `"given"` the `preload_n` are the preloads and must hold every free
+//! body in static equilibrium (checked by [`VehicleFile::validate`], which
+//! names the body and the net force). Wheelsets take their static wheel
+//! loads from the elements acting on them plus their own weight.
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail, ensure};
 use serde::Deserialize;
+
+use super::statics::{PreloadMode, StaticPreloads};
+use super::suspension::{DamperEntry, PerAxis, SeriesEntry, SpringEntry, axis_laws};
 
 /// A wheelset entry.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
@@ -101,9 +112,15 @@ pub struct ReferenceEntry {
     pub name: String,
     /// Origin of its axes at assembly (m); its axes are the track frame.
     pub origin_m: [f64; 3],
+    /// Mass whose weight its elements carry in the static preload solve
+    /// (kg; at the origin). 0 (default): the reference is a fixed support
+    /// there. Its motion in the run stays prescribed either way.
+    #[serde(default)]
+    pub carried_mass_kg: f64,
 }
 
-/// A linear spring–damper (docs/reference/08-multibody.md §8).
+/// A spring–damper: linear, with nonlinear parts per axis
+/// (docs/reference/08-multibody.md §8).
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ElementEntry {
@@ -118,14 +135,26 @@ pub struct ElementEntry {
     pub point_a_m: Option<[f64; 3]>,
     #[serde(default)]
     pub point_b_m: Option<[f64; 3]>,
-    /// Stiffness along a's x, y, z (N/m).
+    /// Stiffness along a's x, y, z (N/m); default 0.
+    #[serde(default)]
     pub stiffness_n_m: [f64; 3],
     /// Damping along a's x, y, z (N·s/m).
     #[serde(default)]
     pub damping_n_s_m: [f64; 3],
-    /// Force on body_b at assembly, in a's axes (N).
+    /// Force on body_b at assembly, in a's axes (N): with
+    /// `preload = "given"` the preload; with `"solve"` a constant force
+    /// kept in the solved preload (friction-free preload).
     #[serde(default)]
     pub preload_n: [f64; 3],
+    /// Nonlinear springs per axis ([`super::suspension`]).
+    #[serde(default)]
+    pub spring: PerAxis<SpringEntry>,
+    /// Nonlinear dampers per axis.
+    #[serde(default)]
+    pub damper: PerAxis<DamperEntry>,
+    /// Series spring–dampers per axis.
+    #[serde(default)]
+    pub series: PerAxis<SeriesEntry>,
 }
 
 impl ElementEntry {
@@ -149,6 +178,9 @@ pub struct VehicleFile {
     pub name: String,
     #[serde(default)]
     pub description: String,
+    /// Where the element preloads come from (default: solved).
+    #[serde(default)]
+    pub preload: PreloadMode,
     pub wheelsets: Vec<WheelsetEntry>,
     #[serde(default)]
     pub bodies: Vec<BodyEntry>,
@@ -159,6 +191,10 @@ pub struct VehicleFile {
     /// Directory the file was read from (profile paths are relative to it).
     #[serde(skip)]
     pub dir: PathBuf,
+    /// The resolved preloads, set by [`VehicleFile::load`] (or
+    /// [`VehicleFile::resolve`]).
+    #[serde(skip)]
+    pub statics: Option<StaticPreloads>,
 }
 
 /// Name of the fixed ground, usable as an element end.
@@ -175,9 +211,18 @@ impl VehicleFile {
         let mut v = Self::parse(&text)
             .with_context(|| format!("in the vehicle file {}", path.display()))?;
         v.dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-        v.validate()
+        v.resolve()
             .with_context(|| format!("in the vehicle file {}", path.display()))?;
         Ok(v)
+    }
+
+    /// Checks every rule ([`VehicleFile::validate`]) and keeps the
+    /// resolved preloads ([`VehicleFile::element_preloads_n`]).
+    pub fn resolve(&mut self) -> Result<()> {
+        self.statics = None;
+        self.validate()?;
+        self.statics = Some(self.static_preloads()?);
+        Ok(())
     }
 
     /// Parses the TOML text (no checks beyond the format).
@@ -193,9 +238,11 @@ impl VehicleFile {
     /// Checks every rule, naming the entry and the rule violated: names
     /// unique and known, masses and inertias positive (principal moments
     /// obeying the triangle inequality), geometry finite and plausible,
-    /// element coefficients ≥ 0, and every free body in static equilibrium
-    /// at assembly under gravity and the element preloads (within 0.5 % of
-    /// its weight, or 1 N).
+    /// element coefficients ≥ 0, nonlinear parts plausible
+    /// ([`super::suspension`]), and the preloads: solved for static
+    /// equilibrium (`preload = "solve"`), or with `"given"` every free body
+    /// in static equilibrium at assembly under gravity and the element
+    /// preloads (within 0.5 % of its weight, or 1 N); no wheelset lifted.
     pub fn validate(&self) -> Result<()> {
         ensure!(
             !self.wheelsets.is_empty(),
@@ -269,6 +316,14 @@ impl VehicleFile {
                 "reference '{}': origin_m must be finite",
                 r.name
             );
+            // A car body is at most ~100 t (a loaded freight wagon, 25 t
+            // per axle on four axles); 1e6 kg means grams or a typo.
+            ensure!(
+                r.carried_mass_kg.is_finite() && (0.0..=1e6).contains(&r.carried_mass_kg),
+                "reference '{}': carried_mass_kg = {} must lie in 0 … 1e6 kg (check the unit: kg)",
+                r.name,
+                r.carried_mass_kg
+            );
         }
         for e in &self.elements {
             let n = &e.name;
@@ -300,33 +355,39 @@ impl VehicleFile {
                 e.preload_n.iter().all(|x| x.is_finite()),
                 "element '{n}': preload_n must be finite"
             );
+            axis_laws(n, &e.spring, &e.damper, &e.series)?;
+            let nothing = e.stiffness_n_m == [0.0; 3]
+                && e.damping_n_s_m == [0.0; 3]
+                && e.preload_n == [0.0; 3]
+                && e.spring.is_empty()
+                && e.damper.is_empty()
+                && e.series.is_empty();
+            ensure!(
+                !nothing,
+                "element '{n}': no stiffness, damping, preload_n or nonlinear part: the element does nothing"
+            );
         }
-        self.check_static_equilibrium()
-    }
-
-    /// Net force (N) on a body at assembly from gravity and the preloads.
-    /// At assembly every body's axes are the track axes, so an element's
-    /// preload (given in a's axes) is the global force on b.
-    pub fn static_force_on(&self, name: &str, mass_kg: f64) -> [f64; 3] {
-        let mut f = [0.0, 0.0, -mass_kg * GRAVITY_M_S2];
-        for e in &self.elements {
-            let sign = if e.body_b == name {
-                1.0
-            } else if e.body_a == name {
-                -1.0
-            } else {
-                continue;
-            };
-            for (fk, pk) in f.iter_mut().zip(e.preload_n) {
-                *fk += sign * pk;
+        match self.preload {
+            PreloadMode::Given => self.check_static_equilibrium(),
+            PreloadMode::Solve => {
+                let solved = self.static_preloads()?;
+                self.check_wheelsets_loaded(&solved.preloads_n)
             }
         }
-        f
+    }
+
+    /// Net force (N) on a body at assembly from gravity and the element
+    /// preloads ([`VehicleFile::element_preloads_n`]). At assembly every
+    /// body's axes are the track axes, so an element's preload (given in
+    /// a's axes) is the global force on b.
+    pub fn static_force_on(&self, name: &str, mass_kg: f64) -> [f64; 3] {
+        self.force_from(name, mass_kg, &self.element_preloads_n())
     }
 
     fn check_static_equilibrium(&self) -> Result<()> {
+        let given = self.given_preloads_n();
         for b in &self.bodies {
-            let f = self.static_force_on(&b.name, b.mass_kg);
+            let f = self.force_from(&b.name, b.mass_kg, &given);
             let tol = (0.005 * b.mass_kg * GRAVITY_M_S2).max(1.0);
             let net = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
             if net > tol {
@@ -340,8 +401,14 @@ impl VehicleFile {
                 );
             }
         }
+        self.check_wheelsets_loaded(&given)
+    }
+
+    /// No wheelset lifted off the rails by the element preloads
+    /// `preloads_n` (file order).
+    fn check_wheelsets_loaded(&self, preloads_n: &[[f64; 3]]) -> Result<()> {
         for w in &self.wheelsets {
-            let f = self.static_force_on(&w.name, w.mass_kg);
+            let f = self.force_from(&w.name, w.mass_kg, preloads_n);
             ensure!(
                 f[2] < 0.0,
                 "wheelset '{}': the elements lift it off the rails at assembly (net vertical force {:.1} N)",
@@ -362,6 +429,7 @@ impl VehicleFile {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::config::statics::PreloadMode;
 
     const WHEELSET: &str = r#"
         name = "test wheelset"
@@ -420,15 +488,106 @@ mod tests {
         v.validate().unwrap();
         let load = v.static_wheel_load_n(&v.wheelsets[0]);
         assert!((load - 0.5 * 3000.0 * GRAVITY_M_S2).abs() < 1e-6);
+        // With preload = "given" (the old behaviour) a preload that does
+        // not carry the frame is refused with the net force.
         let bad = text.replace("PRELOAD", "-1000.0");
-        let e = VehicleFile::parse(&bad).unwrap().validate().unwrap_err();
-        assert!(e.to_string().contains("static equilibrium"), "{e}");
-        assert!(e.to_string().contains("frame"), "{e}");
+        let given = format!("preload = \"given\"\n{bad}");
+        let e = VehicleFile::parse(&given).unwrap().validate().unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("body 'frame' is not in static equilibrium at assembly: net force"),
+            "{e}"
+        );
+        // Solved (the default): the spring carries the frame whatever
+        // preload_n says beyond it (−1000 N kept as a constant force on
+        // the wheelset, the spring's deflection adds the rest).
+        let mut v = VehicleFile::parse(&bad).unwrap();
+        v.resolve().unwrap();
+        let p = v.element_preloads_n()[0][2];
+        assert!((p + 2000.0 * GRAVITY_M_S2).abs() < 1e-6, "{p}");
         let unknown = ok.replace("body_b = \"ws\"", "body_b = \"rear\"");
         let e = VehicleFile::parse(&unknown)
             .unwrap()
             .validate()
             .unwrap_err();
         assert!(e.to_string().contains("unknown body 'rear'"), "{e}");
+    }
+
+    /// A bump stop, a yaw damper with its bushes and a constant force in a
+    /// vehicle file: parsed, solved (the bump stop in its clearance and the
+    /// series element carry no static force, the constant force is kept),
+    /// and the new rules named.
+    #[test]
+    fn nonlinear_elements_and_constant_forces_in_a_file() {
+        let text = format!(
+            "{WHEELSET}
+            [[bodies]]
+            name = \"frame\"
+            cg_m = [0.0, 0.0, 0.6]
+            mass_kg = 2000.0
+            inertia_kg_m2 = [1000.0, 1000.0, 1500.0]
+            [[elements]]
+            name = \"spring\"
+            body_a = \"frame\"
+            body_b = \"ws\"
+            point_m = [0.0, 0.0, 0.43]
+            stiffness_n_m = [1e6, 1e6, 1e6]
+            [elements.spring.y]
+            kind = \"bump_stop\"
+            clearance_m = 0.02
+            stiffness_n_m = 5e6
+            [[elements]]
+            name = \"yaw damper\"
+            body_a = \"frame\"
+            body_b = \"ws\"
+            point_m = [0.0, 1.2, 0.43]
+            [elements.damper.x]
+            kind = \"bilinear\"
+            damping_n_s_m = 2e6
+            blow_off_m_s = 0.02
+            damping_beyond_n_s_m = 1e5
+            [elements.series.x]
+            stiffness_n_m = 6e6
+            damping_n_s_m = 2e6
+            [[elements]]
+            name = \"ballast\"
+            body_a = \"ground\"
+            body_b = \"frame\"
+            point_m = [0.0, 0.0, 0.6]
+            preload_n = [0.0, 0.0, -1000.0]
+            "
+        );
+        let mut v = VehicleFile::parse(&text).unwrap();
+        assert_eq!(v.preload, PreloadMode::Solve);
+        v.resolve().unwrap();
+        let p = v.element_preloads_n();
+        // The spring carries the frame's weight and the 1 kN ballast.
+        assert!(
+            (p[0][2] + 2000.0 * GRAVITY_M_S2 + 1000.0).abs() < 1e-6,
+            "{p:?}"
+        );
+        assert_eq!(p[1], [0.0; 3]);
+        assert_eq!(p[2], [0.0, 0.0, -1000.0]);
+        let load = v.static_wheel_load_n(&v.wheelsets[0]);
+        assert!((load - 0.5 * (3000.0 * GRAVITY_M_S2 + 1000.0)).abs() < 1e-6);
+        // An element that does nothing; a carried mass in grams.
+        let idle = text.replace("preload_n = [0.0, 0.0, -1000.0]", "");
+        let e = VehicleFile::parse(&idle).unwrap().validate().unwrap_err();
+        assert!(e.to_string().contains("element 'ballast'"), "{e}");
+        assert!(e.to_string().contains("does nothing"), "{e}");
+        let heavy = format!(
+            "{text}
+            [[references]]
+            name = \"car\"
+            origin_m = [0.0, 0.0, 1.5]
+            carried_mass_kg = 1.4e7"
+        );
+        let e = VehicleFile::parse(&heavy).unwrap().validate().unwrap_err();
+        assert!(e.to_string().contains("carried_mass_kg"), "{e}");
+        assert!(e.to_string().contains("check the unit"), "{e}");
+        // A typo in the mode is a parse error naming the choices.
+        let typo = format!("preload = \"solved\"\n{text}");
+        let e = VehicleFile::parse(&typo).unwrap_err();
+        assert!(format!("{e:#}").contains("solve"), "{e:#}");
     }
 }

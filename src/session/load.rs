@@ -56,6 +56,7 @@ pub fn add_loads(vehicle: &mut VehicleModel, load: &LoadSection) -> Result<()> {
                     stiffness_n_m: k,
                     damping_n_s_m: c,
                     preload_n: f0,
+                    laws: Default::default(),
                 });
             };
         let lateral = |f: f64| Vector3::new(0.0, f, 0.0);

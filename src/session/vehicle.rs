@@ -14,6 +14,7 @@ use runtime::io::profile_import::{ImportOptions, load_rail, load_wheel};
 use runtime::multibody::body::RigidBody;
 use runtime::multibody::{BodySpec, ElementSpec, End, ReferenceSpec, VehicleModel, WheelsetSpec};
 
+use crate::config::suspension::axis_laws;
 use crate::config::vehicle::{GROUND, VehicleFile};
 
 fn diag(i: [f64; 3]) -> Matrix3<f64> {
@@ -124,8 +125,10 @@ pub fn vehicle_model(
         Err(anyhow!("unknown body '{name}'"))
     };
     let mut elements = Vec::new();
-    for e in &v.elements {
+    let preloads = v.element_preloads_n();
+    for (e, preload) in v.elements.iter().zip(preloads) {
         let (pa, pb) = e.points()?;
+        let laws = axis_laws(&e.name, &e.spring, &e.damper, &e.series)?;
         elements.push(ElementSpec {
             name: e.name.clone(),
             a: end(&e.body_a)?,
@@ -134,7 +137,8 @@ pub fn vehicle_model(
             point_b_m: Vector3::from(pb),
             stiffness_n_m: e.stiffness_n_m,
             damping_n_s_m: e.damping_n_s_m,
-            preload_n: Vector3::from(e.preload_n),
+            preload_n: Vector3::from(preload),
+            laws,
         });
     }
     ensure!(!wheelsets.is_empty(), "the vehicle has no wheelset");

@@ -223,11 +223,20 @@ impl<'a> VehicleSystem<'a> {
                 e.damping_n_s_m,
                 e.preload_n,
             )
+            .and_then(|el| el.with_laws(e.laws.clone()))
             .map_err(|source| DynamicsError::Element {
                 name: e.name.clone(),
                 source,
             })?;
             elements.push(element);
+        }
+        // Internal states after the bodies', zero at assembly (series
+        // springs undeflected: the preload is the element's constant f₀).
+        let mut internal_offsets = Vec::with_capacity(elements.len());
+        let mut n_internal = 0;
+        for el in &elements {
+            internal_offsets.push(n_internal);
+            n_internal += el.internal_len();
         }
         let n_bodies = vehicle.wheelsets.len() + vehicle.bodies.len();
         let mut y0 = vec![0.0; vehicle.state_len()];
@@ -245,6 +254,9 @@ impl<'a> VehicleSystem<'a> {
             track,
             vehicle,
             elements,
+            internal_offsets,
+            internal: vec![0.0; n_internal],
+            internal_rates: vec![0.0; n_internal],
             solvers,
             sources,
             s_guess,

@@ -27,7 +27,10 @@ use crate::multibody::element::Anchor;
 ///   (they oppose the slip);
 /// - contact damping: Σ N_d δ̇ (the hysteresis part of paper eq. 22, with
 ///   the sign of δ̇);
-/// - dampers: Σ Δ̇ᵀ C Δ̇ of the elements;
+/// - dampers: Σ Δ̇ᵀ C Δ̇ of the elements, with their nonlinear dampers'
+///   Σ D(v) v and their series dampers' Σ c_s q̇² (the series springs'
+///   ½ k_s (δ − q)² and the nonlinear springs' ∫ S are in the elements'
+///   potential, `crate::multibody::element`);
 /// - element turning: Σ F_b·(ω_a × (p_b − p_a)), the work of the
 ///   elements' forces beyond their potential ½ΔᵀKΔ − f₀·Δ, which is exact
 ///   only while body a does not rotate (`crate::multibody::element`): the forces are
@@ -106,14 +109,15 @@ impl VehicleSystem<'_> {
             e += st.kinetic_energy_j(body) + st.potential_energy_j(body, &g);
         }
         let ground = Anchor::fixed(Vector3::zeros(), Matrix3::identity());
-        for (el, spec) in self.elements.iter().zip(&vehicle.elements) {
+        for (idx, (el, spec)) in self.elements.iter().zip(&vehicle.elements).enumerate() {
             let a = self
                 .anchor_index(spec.a)
                 .map_or(ground, |k| self.anchors[k]);
             let b = self
                 .anchor_index(spec.b)
                 .map_or(ground, |k| self.anchors[k]);
-            e += el.potential_energy_j(&el.evaluate(&a, &b).deflection_m);
+            let q = self.element_internal(idx);
+            e += el.potential_energy_j(&el.evaluate(&a, &b, q).deflection_m, q);
         }
         for snap in &self.snapshots {
             for f in snap.forces.iter().flatten().flatten() {
@@ -147,12 +151,13 @@ impl VehicleSystem<'_> {
         let vehicle = self.vehicle;
         let n_refs_from = vehicle.wheelsets.len() + vehicle.bodies.len();
         let ground = Anchor::fixed(Vector3::zeros(), Matrix3::identity());
-        for (el, spec) in self.elements.iter().zip(&vehicle.elements) {
+        for (idx, (el, spec)) in self.elements.iter().zip(&vehicle.elements).enumerate() {
             let ia = self.anchor_index(spec.a);
             let ib = self.anchor_index(spec.b);
             let a = ia.map_or(ground, |k| self.anchors[k]);
             let b = ib.map_or(ground, |k| self.anchors[k]);
-            let f = el.evaluate(&a, &b);
+            let q = self.element_internal(idx);
+            let f = el.evaluate(&a, &b, q);
             // Velocity of a point p of an anchor: v + ω × (p − origin).
             let point_velocity = |an: &Anchor, point: &Vector3<f64>| {
                 an.velocity_m_s + an.angular_velocity_rad_s.cross(&(point - an.position_m))
@@ -165,7 +170,7 @@ impl VehicleSystem<'_> {
             if ib.is_some_and(|k| k >= n_refs_from) {
                 p[1] -= f.force_on_b_n.dot(&point_velocity(&b, &f.point_b_m));
             }
-            p[4] += el.dissipated_power_w(&f.rate_m_s);
+            p[4] += el.dissipated_power_w(&f.deflection_m, &f.rate_m_s, q);
             // The elements' directions turn with a: their forces on the
             // bodies do F_b·(ω_a × (p_b − p_a)) more work than their
             // potential and dampers account for.

@@ -12,7 +12,8 @@
 //! d. creepages and creep forces ([`crate::multibody::contact_force`]), from the
 //!    same source;
 //! e. suspension forces (elements between bodies, wheelsets and the
-//!    track-following references) and gravity;
+//!    track-following references; their internal states, after the
+//!    bodies' in y, and the rates of those) and gravity;
 //! f. Newton–Euler accelerations ([`crate::multibody::body::derivatives`]).
 //!
 //! The surface parameters of the last solve are the next initial guess;
@@ -173,13 +174,20 @@ impl VehicleSystem<'_> {
                 source,
             })?;
         }
+        // The elements' internal states follow the bodies' in y.
+        let n_y = vehicle.body_state_len();
+        if let Some(q) = y.get(n_y..n_y + self.internal.len()) {
+            self.internal.copy_from_slice(q);
+        }
         let ground = Anchor::fixed(Vector3::zeros(), Matrix3::identity());
-        for (e, spec) in self.elements.iter().zip(&vehicle.elements) {
+        for (idx, (e, spec)) in self.elements.iter().zip(&vehicle.elements).enumerate() {
             let ia = self.anchor_index(spec.a);
             let ib = self.anchor_index(spec.b);
             let a = ia.map_or(ground, |k| self.anchors[k]);
             let b = ib.map_or(ground, |k| self.anchors[k]);
-            let f = e.evaluate(&a, &b);
+            let (start, len) = (self.internal_offsets[idx], e.internal_len());
+            let f = e.evaluate(&a, &b, &self.internal[start..start + len]);
+            self.internal_rates[start..start + len].copy_from_slice(&f.internal_rate_m_s[..len]);
             if let Some(k) = ia.filter(|&k| k < n_bodies) {
                 let cg = self.states[k].position_m;
                 self.wrenches[k].add_force_at(&cg, &f.point_a_m, &f.force_on_a_n());

@@ -277,11 +277,19 @@ pub fn linearise(
     system: &mut VehicleSystem<'_>,
     y0: &[f64],
 ) -> Result<Linearisation, DynamicsError> {
+    let n_internal = system.vehicle().internal_state_len();
+    if n_internal > 0 {
+        return Err(DynamicsError::Setting {
+            setting: "series spring–damper axes (internal states)",
+            value: n_internal as f64,
+            rule: "the linearisation does not include the elements' internal states: use a time run (docs/reference/08-multibody.md §8.2)",
+        });
+    }
     let layout = layout(system);
     let track = system.track();
     let n_ws = system.vehicle().wheelsets.len();
     let mut frames = Vec::new();
-    for k in 0..y0.len() / BodyState::LEN {
+    for k in 0..system.vehicle().body_state_len() / BodyState::LEN {
         let st = BodyState::read_from(&y0[BodyState::slot(k)]);
         let s = super::track_motion::project_s(&track.centerline, &st.position_m, 0.0).map_err(
             |source| DynamicsError::Track {

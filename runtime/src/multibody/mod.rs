@@ -2,7 +2,9 @@
 //! §4.1, Fig. 8, and §5; docs/reference/08-multibody.md §8).
 //!
 //! - [`body`]: rigid bodies, their state and Newton–Euler equations;
-//! - [`element`]: spring–dampers between bodies;
+//! - [`element`]: spring–dampers between bodies (linear, nonlinear laws,
+//!   series spring–dampers with internal states);
+//! - [`preload`]: the static preload solve at assembly;
 //! - [`contact_force`]: the per-contact pipeline from a contact point to
 //!   the forces on the wheel (Hertz, normal force, creepages, creep law);
 //! - [`vehicle`]: the vehicle as plain data (wheelsets, free bodies,
@@ -23,7 +25,10 @@
 //!
 //! State: [`crate::multibody::body::BodyState::LEN`] (13) variables per wheelset and
 //! free body (position, unit quaternion, velocity, body angular velocity;
-//! [`crate::multibody::body::BodyState`]), wheelsets first. Wheelsets are ordinary
+//! [`crate::multibody::body::BodyState`]), wheelsets first, then the
+//! elements' internal states (one per series spring–damper axis, element
+//! order; [`VehicleModel::internal_state_len`]) — after the bodies, so body
+//! state indices do not depend on the elements. Wheelsets are ordinary
 //! rigid bodies whose spin about the axle is part of their angular
 //! velocity; their contact geometry and the elements attached to them use
 //! the non-spinning axle frame.
@@ -40,6 +45,7 @@ mod evaluate;
 pub mod imported_contact;
 pub mod linear;
 pub mod loaded_wheelset;
+pub mod preload;
 pub mod recorder;
 mod settings;
 pub mod system;

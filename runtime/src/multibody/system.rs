@@ -82,6 +82,13 @@ pub struct VehicleSystem<'a> {
     pub(super) vehicle: &'a VehicleModel,
     pub(super) settings: SystemSettings,
     pub(super) elements: Vec<SpringDamper>,
+    /// Index in `internal` (and in the state after the bodies') of each
+    /// element's first internal state.
+    pub(super) internal_offsets: Vec<usize>,
+    /// The elements' internal states at the last evaluation (series
+    /// strokes, m), and their rates (m/s).
+    pub(super) internal: Vec<f64>,
+    pub(super) internal_rates: Vec<f64>,
     pub(super) solvers: Vec<ContactSolver>,
     /// Where each wheelset's contacts come from.
     pub(super) sources: Vec<Box<dyn ContactSource>>,
@@ -175,6 +182,18 @@ impl<'a> VehicleSystem<'a> {
         &self.wrenches[..self.states.len()]
     }
 
+    /// The elements' internal states at the last evaluation (the series
+    /// dampers' strokes, m; element order, after the bodies' states in y).
+    pub fn internal_states(&self) -> &[f64] {
+        &self.internal
+    }
+
+    /// The internal states of element `index` at the last evaluation.
+    pub(super) fn element_internal(&self, index: usize) -> &[f64] {
+        let start = self.internal_offsets[index];
+        &self.internal[start..start + self.elements[index].internal_len()]
+    }
+
     /// Speed of the references at time `t_s` (m/s): the ramp of
     /// [`SystemSettings::speed_ramp`] (constant, braking to a stop or to
     /// a final speed, accelerating).
@@ -243,6 +262,10 @@ impl OdeSystem for VehicleSystem<'_> {
                 &g,
                 &mut dydt[BodyState::slot(k)],
             );
+        }
+        let n = vehicle.body_state_len();
+        if let Some(d) = dydt.get_mut(n..n + self.internal_rates.len()) {
+            d.copy_from_slice(&self.internal_rates);
         }
         Ok(())
     }

@@ -10,6 +10,7 @@ use nalgebra::Vector3;
 
 use crate::contact::WheelsetContactModel;
 use crate::multibody::body::{BodyState, RigidBody};
+use crate::multibody::element::AxisLaws;
 
 /// What an element end is attached to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -62,7 +63,8 @@ pub struct ReferenceSpec {
     pub origin_m: Vector3<f64>,
 }
 
-/// A linear spring–damper between two ends (see [`crate::multibody::element`]).
+/// A spring–damper between two ends, linear with optional nonlinear
+/// additions per axis (see [`crate::multibody::element`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ElementSpec {
     pub name: String,
@@ -78,6 +80,16 @@ pub struct ElementSpec {
     pub damping_n_s_m: [f64; 3],
     /// Force on b at assembly, in a's axes (N).
     pub preload_n: Vector3<f64>,
+    /// Nonlinear additions along a's x, y, z
+    /// ([`crate::multibody::element::law`]); default: none.
+    pub laws: [AxisLaws; 3],
+}
+
+impl ElementSpec {
+    /// Number of internal states (one per series spring–damper axis).
+    pub fn internal_len(&self) -> usize {
+        self.laws.iter().filter(|l| l.series.is_some()).count()
+    }
 }
 
 /// A whole vehicle.
@@ -97,9 +109,22 @@ impl VehicleModel {
             + self.bodies.iter().map(|b| b.body.mass_kg).sum::<f64>()
     }
 
-    /// Number of state variables ([`BodyState::LEN`] per wheelset and free
-    /// body).
-    pub fn state_len(&self) -> usize {
+    /// Number of state variables of the bodies ([`BodyState::LEN`] per
+    /// wheelset and free body), wheelsets first.
+    pub fn body_state_len(&self) -> usize {
         BodyState::LEN * (self.wheelsets.len() + self.bodies.len())
+    }
+
+    /// Number of the elements' internal states (series spring–dampers),
+    /// stored after the bodies' states in element order.
+    pub fn internal_state_len(&self) -> usize {
+        self.elements.iter().map(ElementSpec::internal_len).sum()
+    }
+
+    /// Number of state variables: the bodies' ([`Self::body_state_len`])
+    /// then the elements' internal states ([`Self::internal_state_len`]),
+    /// so body state indices do not depend on the elements.
+    pub fn state_len(&self) -> usize {
+        self.body_state_len() + self.internal_state_len()
     }
 }

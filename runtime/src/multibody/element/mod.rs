@@ -1,4 +1,8 @@
-//! Linear spring–damper suspension elements between two anchors (docs/reference/08-multibody.md §8).
+//! Suspension elements between two anchors (docs/reference/08-multibody.md §8):
+//! linear springs and dampers per axis, with the nonlinear additions of
+//! [`law`] (bump stops, force–deflection tables, bilinear and tabulated
+//! dampers) and [`series`] (a spring in series with a damper, with one
+//! internal state per axis), and a constant preload.
 //!
 //! # Anchors
 //!
@@ -24,7 +28,18 @@
 //! ```
 //!
 //! Δ₀ is the relative displacement at the reference (assembly)
-//! configuration and f₀ the preload, the force on b there.
+//! configuration and f₀ the preload, the force on b there. With the
+//! nonlinear additions of axis i ([`AxisLaws`]; δ = Δ − Δ₀, v = Δ̇, qᵢ the
+//! series damper's stroke):
+//!
+//! ```text
+//! fᵢ = f₀ᵢ − kᵢ δᵢ − cᵢ vᵢ − S(δᵢ) − D(vᵢ) − k_sᵢ (δᵢ − qᵢ),   q̇ᵢ = k_sᵢ (δᵢ − qᵢ) / c_sᵢ
+//! ```
+//!
+//! S a [`SpringLaw`], D a [`DamperLaw`], (k_s, c_s) a [`SeriesLaw`]; each
+//! absent term is zero. The strokes q are the element's internal state
+//! ([`SpringDamper::internal_len`] values, one per series axis, in axis
+//! order), zero at assembly.
 //!
 //! Derivation of Δ̇ (S(ω) is the cross-product matrix, S(ω) u = ω × u):
 //!
@@ -48,16 +63,22 @@
 //! in a coil spring's shear stiffness without its bending stiffness); it is
 //! small for short elements.
 //!
-//! [`SpringDamper::potential_energy_j`], U = ½ Σ kᵢ (Δᵢ − Δ₀ᵢ)² − f₀·(Δ − Δ₀),
-//! satisfies f = f₀ − K(Δ − Δ₀) − CΔ̇ ⇒ f·Δ̇ = −dU/dt − P_diss with
-//! [`SpringDamper::dissipated_power_w`] P_diss = Σ cᵢ Δ̇ᵢ². The power the
+//! [`SpringDamper::potential_energy_j`], U = ½ Σ kᵢ (Δᵢ − Δ₀ᵢ)² − f₀·(Δ − Δ₀) +
+//! Σ ∫₀^δᵢ S + Σ ½ k_sᵢ (δᵢ − qᵢ)², satisfies f·Δ̇ = −dU/dt − P_diss with
+//! [`SpringDamper::dissipated_power_w`] P_diss = Σ cᵢ Δ̇ᵢ² + Σ D(vᵢ) vᵢ +
+//! Σ k_sᵢ² (δᵢ − qᵢ)² / c_sᵢ ≥ 0 (the series damper's c_s q̇², [`series`]). The power the
 //! element delivers to the two anchors is
 //! F_b·v_pb + F_a·v_pa = f·R_aᵀ(v_pb − v_pa) = f·Δ̇ + f·(ω_a,loc × Δ), so U
 //! is the element's exact potential energy (and total energy with U is
 //! conserved without damping) **when anchor a does not rotate**, or when
 //! f ∥ Δ; otherwise the unbalanced couple does the work f·(ω_a,loc × Δ).
 
+pub mod law;
+pub mod series;
+
 use nalgebra::{Matrix3, Vector3};
+
+pub use law::{AxisLaws, DamperLaw, LawError, PiecewiseLinear, SeriesLaw, SpringLaw};
 
 use crate::multibody::body::{BodyState, Wrench};
 
@@ -114,7 +135,7 @@ impl Anchor {
 }
 
 /// Why a [`SpringDamper`] is not usable.
-#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ElementError {
     /// A stiffness is NaN, infinite or negative (axis 0, 1, 2 = a's x, y, z).
     #[error("stiffness along axis {axis} = {value_n_m} N/m must be finite and >= 0")]
@@ -131,11 +152,18 @@ pub enum ElementError {
         field: &'static str,
         value_m: [f64; 3],
     },
+    /// A nonlinear law of an axis breaks a rule.
+    #[error("the nonlinear law along axis {axis}: {source}")]
+    Law {
+        axis: usize,
+        #[source]
+        source: LawError,
+    },
 }
 
-/// A linear spring–damper with three uncoupled directions, anchor a's axes
+/// A spring–damper with three uncoupled directions, anchor a's axes
 /// (module docs).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct SpringDamper {
     /// Attachment point on a, in a's axes from its origin (m).
     pub point_a_m: Vector3<f64>,
@@ -150,6 +178,8 @@ pub struct SpringDamper {
     /// Δ₀, the relative displacement R_aᵀ(p_b − p_a) at the reference
     /// configuration, a's axes (m).
     pub reference_offset_m: Vector3<f64>,
+    /// Nonlinear additions along a's x, y, z (none: linear).
+    pub laws: [AxisLaws; 3],
 }
 
 /// Result of [`SpringDamper::evaluate`].
@@ -165,6 +195,9 @@ pub struct ElementForce {
     pub deflection_m: Vector3<f64>,
     /// Deflection rate Δ̇, a's axes (m/s).
     pub rate_m_s: Vector3<f64>,
+    /// Rates q̇ of the internal states (the series dampers' strokes, m/s),
+    /// the first [`SpringDamper::internal_len`] used.
+    pub internal_rate_m_s: [f64; 3],
 }
 
 impl ElementForce {
@@ -214,9 +247,38 @@ impl SpringDamper {
             preload_n,
             reference_offset_m: anchor_a.rotation.transpose()
                 * (point_b_global_m - point_a_global_m),
+            laws: Default::default(),
         };
         element.validate()?;
         Ok(element)
+    }
+
+    /// The element with the nonlinear additions `laws` (a's x, y, z).
+    /// Validated.
+    pub fn with_laws(mut self, laws: [AxisLaws; 3]) -> Result<Self, ElementError> {
+        self.laws = laws;
+        self.validate()?;
+        Ok(self)
+    }
+
+    /// Number of internal states: one per axis with a series
+    /// spring–damper.
+    pub fn internal_len(&self) -> usize {
+        self.laws.iter().filter(|l| l.series.is_some()).count()
+    }
+
+    /// Stiffness per axis at zero deflection for the static preload solve
+    /// (N/m): the linear stiffness plus the nonlinear spring's
+    /// ([`SpringLaw::stiffness_at_zero_n_m`]); series elements carry no
+    /// static force ([`series`]).
+    pub fn static_stiffness_n_m(&self) -> [f64; 3] {
+        std::array::from_fn(|i| {
+            self.stiffness_n_m[i]
+                + self.laws[i]
+                    .spring
+                    .as_ref()
+                    .map_or(0.0, SpringLaw::stiffness_at_zero_n_m)
+        })
     }
 
     /// Checks: stiffness and damping finite and ≥ 0 per axis, preload
@@ -234,6 +296,9 @@ impl SpringDamper {
                     value_n_s_m: c,
                 });
             }
+            self.laws[axis]
+                .validate()
+                .map_err(|source| ElementError::Law { axis, source })?;
         }
         if !self.preload_n.iter().all(|v| v.is_finite()) {
             return Err(ElementError::NonFinitePreload {
@@ -255,8 +320,10 @@ impl SpringDamper {
         Ok(())
     }
 
-    /// Forces of the element between anchors `a` and `b` (module docs).
-    pub fn evaluate(&self, a: &Anchor, b: &Anchor) -> ElementForce {
+    /// Forces of the element between anchors `a` and `b` (module docs),
+    /// with the internal states `internal_m` (the series strokes q,
+    /// [`Self::internal_len`] values; missing ones are taken as zero).
+    pub fn evaluate(&self, a: &Anchor, b: &Anchor, internal_m: &[f64]) -> ElementForce {
         let point_a_m = a.point_position(&self.point_a_m);
         let point_b_m = b.point_position(&self.point_b_m);
         let rt = a.rotation.transpose();
@@ -267,29 +334,85 @@ impl SpringDamper {
         let deflection_m = delta - self.reference_offset_m;
         let k = Vector3::from(self.stiffness_n_m);
         let c = Vector3::from(self.damping_n_s_m);
-        let f_local = self.preload_n - k.component_mul(&deflection_m) - c.component_mul(&rate_m_s);
+        let mut f_local =
+            self.preload_n - k.component_mul(&deflection_m) - c.component_mul(&rate_m_s);
+        let mut internal_rate_m_s = [0.0; 3];
+        if self.laws.iter().any(|l| !l.is_linear()) {
+            let mut slot = 0;
+            for (i, law) in self.laws.iter().enumerate() {
+                if let Some(s) = &law.spring {
+                    f_local[i] -= s.force_n(deflection_m[i]);
+                }
+                if let Some(d) = &law.damper {
+                    f_local[i] -= d.force_n(rate_m_s[i]);
+                }
+                if let Some(s) = &law.series {
+                    let q = internal_m.get(slot).copied().unwrap_or(0.0);
+                    f_local[i] -= s.force_n(deflection_m[i], q);
+                    internal_rate_m_s[slot] = s.stroke_rate_m_s(deflection_m[i], q);
+                    slot += 1;
+                }
+            }
+        }
         ElementForce {
             force_on_b_n: a.rotation * f_local,
             point_a_m,
             point_b_m,
             deflection_m,
             rate_m_s,
+            internal_rate_m_s,
         }
     }
 
-    /// Potential energy (J) for a deflection Δ − Δ₀ (a's axes, m):
-    /// ½ Σ kᵢ (Δᵢ − Δ₀ᵢ)² − f₀·(Δ − Δ₀); zero at the reference configuration.
-    /// Exact potential of the element when anchor a does not rotate (module
-    /// docs).
-    pub fn potential_energy_j(&self, deflection_m: &Vector3<f64>) -> f64 {
-        let k = Vector3::from(self.stiffness_n_m);
-        0.5 * k.dot(&deflection_m.component_mul(deflection_m)) - self.preload_n.dot(deflection_m)
+    /// Calls `f(axis, law, stroke)` for every series axis with its stroke
+    /// from `internal_m` (zero if missing).
+    fn for_series(&self, internal_m: &[f64], mut f: impl FnMut(usize, &SeriesLaw, f64)) {
+        let mut slot = 0;
+        for (i, law) in self.laws.iter().enumerate() {
+            if let Some(s) = &law.series {
+                f(i, s, internal_m.get(slot).copied().unwrap_or(0.0));
+                slot += 1;
+            }
+        }
     }
 
-    /// Power dissipated by the dampers (W) at a deflection rate Δ̇ (a's
-    /// axes, m/s): Σ cᵢ Δ̇ᵢ² ≥ 0.
-    pub fn dissipated_power_w(&self, rate_m_s: &Vector3<f64>) -> f64 {
-        Vector3::from(self.damping_n_s_m).dot(&rate_m_s.component_mul(rate_m_s))
+    /// Potential energy (J) for a deflection δ = Δ − Δ₀ (a's axes, m) and
+    /// the internal states `internal_m`: ½ Σ kᵢ δᵢ² − f₀·δ + Σ ∫₀^δᵢ Sᵢ +
+    /// Σ ½ k_sᵢ (δᵢ − qᵢ)²; zero at the reference configuration. Exact
+    /// potential of the element when anchor a does not rotate (module
+    /// docs).
+    pub fn potential_energy_j(&self, deflection_m: &Vector3<f64>, internal_m: &[f64]) -> f64 {
+        let k = Vector3::from(self.stiffness_n_m);
+        let mut u = 0.5 * k.dot(&deflection_m.component_mul(deflection_m))
+            - self.preload_n.dot(deflection_m);
+        for (i, law) in self.laws.iter().enumerate() {
+            if let Some(s) = &law.spring {
+                u += s.energy_j(deflection_m[i]);
+            }
+        }
+        self.for_series(internal_m, |i, s, q| u += s.energy_j(deflection_m[i], q));
+        u
+    }
+
+    /// Power dissipated by the dampers (W) at a deflection δ (m), a
+    /// deflection rate Δ̇ (a's axes, m/s) and the internal states:
+    /// Σ cᵢ Δ̇ᵢ² + Σ D(Δ̇ᵢ) Δ̇ᵢ + Σ k_sᵢ² (δᵢ − qᵢ)² / c_sᵢ ≥ 0.
+    pub fn dissipated_power_w(
+        &self,
+        deflection_m: &Vector3<f64>,
+        rate_m_s: &Vector3<f64>,
+        internal_m: &[f64],
+    ) -> f64 {
+        let mut p = Vector3::from(self.damping_n_s_m).dot(&rate_m_s.component_mul(rate_m_s));
+        for (i, law) in self.laws.iter().enumerate() {
+            if let Some(d) = &law.damper {
+                p += d.force_n(rate_m_s[i]) * rate_m_s[i];
+            }
+        }
+        self.for_series(internal_m, |i, s, q| {
+            p += s.dissipated_power_w(deflection_m[i], q)
+        });
+        p
     }
 }
 
@@ -321,6 +444,7 @@ mod tests {
             damping_n_s_m: [1e3, 2e3, 5e3],
             preload_n: Vector3::new(10.0, -20.0, 3e4),
             reference_offset_m: Vector3::new(0.0, 0.0, 0.3),
+            laws: Default::default(),
         }
     }
 
@@ -402,7 +526,7 @@ mod tests {
             [-0.2, 0.5, 0.3],
         );
         let e = element();
-        let f = e.evaluate(&a, &b);
+        let f = e.evaluate(&a, &b, &[]);
         let scale = f.force_on_b_n.norm();
         assert!(scale > 1e3);
         assert_eq!(f.force_on_a_n() + f.force_on_b_n, Vector3::zeros());
@@ -424,9 +548,9 @@ mod tests {
             + (b.position_m - o).cross(&wb.force_n);
         assert!((m_o - couple).norm() < 1e-9 * scale);
         // Coincident attachment points: no couple.
-        let mut e0 = e;
+        let mut e0 = e.clone();
         e0.point_b_m = b.rotation.transpose() * (a.point_position(&e.point_a_m) - b.position_m);
-        let f0 = e0.evaluate(&a, &b);
+        let f0 = e0.evaluate(&a, &b, &[]);
         let m0 = (f0.point_a_m - o).cross(&f0.force_on_a_n())
             + (f0.point_b_m - o).cross(&f0.force_on_b_n);
         assert!(m0.norm() < 1e-9 * f0.force_on_b_n.norm(), "{m0}");
@@ -451,7 +575,7 @@ mod tests {
             // b's origin placed so that Δ = (0.5 + d, 0, 0) in a's axes.
             let pb = a.point_position(&(e.point_a_m + Vector3::new(0.5 + d, 0.0, 0.0)));
             let b = Anchor::fixed(pb - e.point_b_m, Matrix3::identity());
-            let f = e.evaluate(&a, &b);
+            let f = e.evaluate(&a, &b, &[]);
             assert!((f.deflection_m - Vector3::new(d, 0.0, 0.0)).norm() < 1e-14);
             let expected = a.rotation * Vector3::new(-1e5 * d, 0.0, 0.0);
             assert!(
@@ -468,7 +592,11 @@ mod tests {
             [0.0; 3],
         );
         let pb = a.point_position(&(e.point_a_m + Vector3::new(0.5 + d, 0.0, 0.0)));
-        let f = e.evaluate(&a, &Anchor::fixed(pb - e.point_b_m, Matrix3::identity()));
+        let f = e.evaluate(
+            &a,
+            &Anchor::fixed(pb - e.point_b_m, Matrix3::identity()),
+            &[],
+        );
         assert!((f.force_on_b_n - Vector3::new(0.0, -1e5 * d, 0.0)).norm() < 1e-9);
     }
 
@@ -487,7 +615,7 @@ mod tests {
             velocity_m_s: v_b,
             ..Anchor::fixed(pb - e.point_b_m, Matrix3::identity())
         };
-        let f = e.evaluate(&a, &b);
+        let f = e.evaluate(&a, &b, &[]);
         assert!(f.deflection_m.norm() < 1e-14);
         let v_rel = v_b - a.velocity_m_s;
         let rate = a.rotation.transpose() * v_rel;
@@ -496,7 +624,7 @@ mod tests {
         assert!((f.force_on_b_n - expected).norm() < 1e-9);
         let power = f.force_on_b_n.dot(&v_rel);
         assert!(power < 0.0);
-        assert!((power + e.dissipated_power_w(&f.rate_m_s)).abs() < 1e-9);
+        assert!((power + e.dissipated_power_w(&f.deflection_m, &f.rate_m_s, &[])).abs() < 1e-9);
     }
 
     /// Δ̇ = R_aᵀ(v_pb − v_pa) − ω_a,loc × Δ equals the finite-difference
@@ -525,11 +653,11 @@ mod tests {
         };
         let h = 1e-5;
         let delta = |t: f64| {
-            let f = e.evaluate(&at(&a0, t), &at(&b0, t));
+            let f = e.evaluate(&at(&a0, t), &at(&b0, t), &[]);
             f.deflection_m
         };
         let fd = (delta(h) - delta(-h)) / (2.0 * h);
-        let rate = e.evaluate(&a0, &b0).rate_m_s;
+        let rate = e.evaluate(&a0, &b0, &[]).rate_m_s;
         assert!(rate.norm() > 0.5);
         assert!((rate - fd).norm() < 1e-8, "{rate} vs {fd}");
         // A rigid rotation of the whole pair about a's origin: Δ̇ = 0.
@@ -543,7 +671,7 @@ mod tests {
             angular_velocity_rad_s: w,
             ..a0
         };
-        assert!(e.evaluate(&a_rigid, &b_rigid).rate_m_s.norm() < 1e-14);
+        assert!(e.evaluate(&a_rigid, &b_rigid, &[]).rate_m_s.norm() < 1e-14);
     }
 
     /// Assembled at a configuration, at rest there: force = R_a f₀, zero
@@ -558,12 +686,12 @@ mod tests {
         let preload = Vector3::new(100.0, -50.0, 4e4);
         let e = SpringDamper::assembled(&a, &b, &pa, &pb, [1e5, 2e5, 3e5], [1e3; 3], preload)
             .expect("valid element");
-        let f = e.evaluate(&a, &b);
+        let f = e.evaluate(&a, &b, &[]);
         assert!((f.point_a_m - pa).norm() < 1e-15);
         assert!((f.point_b_m - pb).norm() < 1e-15);
         assert!(f.deflection_m.norm() < 1e-15, "{}", f.deflection_m);
         assert!((f.force_on_b_n - a.rotation * preload).norm() < 1e-9);
-        assert!(e.potential_energy_j(&f.deflection_m).abs() < 1e-9);
+        assert!(e.potential_energy_j(&f.deflection_m, &[]).abs() < 1e-9);
     }
 
     /// U = ½ Σ kᵢδᵢ² − f₀·δ: its gradient is the spring part of −f
@@ -578,9 +706,84 @@ mod tests {
             dp[i] += h;
             let mut dm = d;
             dm[i] -= h;
-            let grad = (e.potential_energy_j(&dp) - e.potential_energy_j(&dm)) / (2.0 * h);
+            let grad =
+                (e.potential_energy_j(&dp, &[]) - e.potential_energy_j(&dm, &[])) / (2.0 * h);
             let spring = e.preload_n[i] - e.stiffness_n_m[i] * d[i];
             assert!((grad + spring).abs() < 1e-6, "axis {i}: {grad} vs {spring}");
         }
+    }
+
+    /// Nonlinear additions along a's y: at rest with δ_y = 20 mm, a bump
+    /// stop (15 mm, 2 MN/m) adds 10 kN, a series element (k_s 1 MN/m) with
+    /// stroke q = 5 mm adds 15 kN and reports q̇ = k_s (δ − q)/c_s; moving
+    /// at 0.05 m/s a bilinear damper (c₁ 1e5 to 0.02 m/s, c₂ 1e4) adds
+    /// 2 kN + 0.3 kN. The energy's gradient is the spring part of −f.
+    #[test]
+    fn nonlinear_axis_adds_to_the_linear_force() {
+        let mut e = element();
+        e.preload_n = Vector3::zeros();
+        e.reference_offset_m = Vector3::zeros();
+        e.point_b_m = Vector3::zeros();
+        e.point_a_m = Vector3::zeros();
+        e = e
+            .with_laws([
+                AxisLaws::default(),
+                AxisLaws {
+                    spring: Some(SpringLaw::BumpStop {
+                        clearance_m: 0.015,
+                        stiffness_n_m: 2e6,
+                    }),
+                    damper: Some(DamperLaw::Bilinear {
+                        damping_n_s_m: 1e5,
+                        blow_off_m_s: 0.02,
+                        damping_beyond_n_s_m: 1e4,
+                    }),
+                    series: Some(SeriesLaw {
+                        stiffness_n_m: 1e6,
+                        damping_n_s_m: 1e4,
+                    }),
+                },
+                AxisLaws::default(),
+            ])
+            .unwrap();
+        assert_eq!(e.internal_len(), 1);
+        let a = Anchor::fixed(Vector3::zeros(), Matrix3::identity());
+        let mut b = Anchor::fixed(Vector3::new(0.0, 0.02, 0.0), Matrix3::identity());
+        let q = [0.005];
+        let f = e.evaluate(&a, &b, &q);
+        let linear = 2e5 * 0.02;
+        let expected = -(linear + 1e4 + 1e6 * 0.015);
+        assert!(
+            (f.force_on_b_n.y - expected).abs() < 1e-6,
+            "{}",
+            f.force_on_b_n
+        );
+        assert!((f.internal_rate_m_s[0] - 1e6 * 0.015 / 1e4).abs() < 1e-12);
+        b.velocity_m_s.y = 0.05;
+        let g = e.evaluate(&a, &b, &q);
+        let damping = 2e3 * 0.05 + 1e5 * 0.02 + 1e4 * 0.03;
+        assert!((g.force_on_b_n.y - (expected - damping)).abs() < 1e-6);
+        let p = e.dissipated_power_w(&g.deflection_m, &g.rate_m_s, &q);
+        let series = 1.5e4 * 1.5e4 / 1e4;
+        assert!((p - (2e3 * 0.05 * 0.05 + 2.3e3 * 0.05 + series)).abs() < 1e-6);
+        // dU/dδ_y = −(spring part of f_y) at q fixed.
+        let h = 1e-7;
+        let d = f.deflection_m;
+        let u = |dy: f64| e.potential_energy_j(&(d + Vector3::new(0.0, dy, 0.0)), &q);
+        let grad = (u(h) - u(-h)) / (2.0 * h);
+        assert!((grad + expected).abs() < 1e-3, "{grad} vs {expected}");
+        // A bad law is refused with its axis.
+        let bad = element().with_laws([
+            AxisLaws::default(),
+            AxisLaws::default(),
+            AxisLaws {
+                series: Some(SeriesLaw {
+                    stiffness_n_m: 0.0,
+                    damping_n_s_m: 1.0,
+                }),
+                ..Default::default()
+            },
+        ]);
+        assert!(matches!(bad, Err(ElementError::Law { axis: 2, .. })));
     }
 }
