@@ -15,6 +15,7 @@
 
 pub mod chunks;
 pub mod columns;
+pub mod curving;
 
 pub use chunks::{DecimatedView, ResultsSink, SinkError};
 pub use columns::{
@@ -68,6 +69,10 @@ pub struct WheelsetSeries {
     /// s at the wheelset's section (m), as the track tables and the track
     /// files count it; NaN in files written before it was stored.
     pub track_s_m: Vec<f64>,
+    /// ΣY, the track shifting force: the lateral contact forces of both
+    /// wheels summed in the track plane (N), + left ([`curving::sum_y_n`]);
+    /// NaN without contact.
+    pub sum_y_n: Vec<f64>,
     /// `[left, right]`, facing the direction of travel.
     pub wheels: [WheelSeries; 2],
 }
@@ -90,6 +95,9 @@ pub struct WheelSeries {
     /// Y/Q (dimensionless), Nadal's derailment quotient
     /// ([`crate::contact::nadal`]); NaN without contact.
     pub y_over_q: Vec<f64>,
+    /// Tγ of the wheel: the wear numbers of its zones in contact summed
+    /// (N, [`curving::wheel_wear_number_n`]); NaN without contact.
+    pub wear_number_n: Vec<f64>,
     /// The wheel's Nadal limit (steepest flange angle, friction), when it
     /// has a flange and the writer knew it.
     pub nadal: Option<NadalLimit>,
@@ -139,6 +147,9 @@ pub struct ZoneSeries {
     /// Bit flags of the fallbacks ([`FALLBACK_MINIMISATION`],
     /// [`FALLBACK_HERTZ_FLOOR`]); 0 none.
     pub fallback: Vec<u8>,
+    /// Wear number Tγ = |Fx ξ| + |Fy η| + |Mz φ| (N,
+    /// [`curving::wear_number_n`]), from the values above.
+    pub wear_number_n: Vec<f64>,
 }
 
 /// One sample of a contact zone, for [`ZoneSeries::push`].
@@ -268,6 +279,8 @@ pub struct WheelValues {
     pub q_n: f64,
     /// See [`WheelSeries::y_over_q`].
     pub y_over_q: f64,
+    /// See [`WheelSeries::wear_number_n`].
+    pub wear_number_n: f64,
 }
 
 impl WheelValues {
@@ -281,6 +294,7 @@ impl WheelValues {
             y_n,
             q_n,
             y_over_q,
+            wear_number_n: curving::wheel_wear_number_n(&s.zones),
         }
     }
 }

@@ -24,6 +24,8 @@
 //!     speed_m_s                  forward speed along the track (m/s)
 //!     track_s_m                  track position of the wheelset centre: the centreline's
 //!                                arc length s at its section (m; NaN in older files)
+//!     sum_y_n                    ΣY, track shifting force: both wheels' lateral contact
+//!                                forces summed on the wheelset, + left (N) = Y_right − Y_left
 //!     left/  right/              the two wheels (left/right facing the direction of travel)
 //!         travelled_m            1-D f64 [n], distance travelled by the wheel along its rail:
 //!                                the contact point's rail arc length since the start (m)
@@ -37,6 +39,7 @@
 //!                                attributes (when the wheel has a flange): flange_angle_rad
 //!                                (steepest flank), friction, nadal_limit =
 //!                                (tan γ − μ)/(1 + μ tan γ) (Nadal 1908)
+//!         wear_number_n          f64, Tγ of the wheel, its zones' summed (N); NaN likewise
 //!         tread/  flange/        the two contact zones, each with 1-D datasets [n]:
 //!             in_contact         u8, 1 when the zone is in contact, else 0
 //!             normal_n           f64, normal force on the wheel along n_c (N, ≥ 0)
@@ -64,6 +67,7 @@
 //!                                fallback (nearly conformal, Newton's Jacobian singular;
 //!                                `runtime::contact`), 2 = non-Hertzian geometry, ellipse
 //!                                from floored curvatures (`NonHertzianPolicy::Floor`); 0 none
+//!             wear_number_n      f64, wear number Tγ = |Fx ξ| + |Fy η| + |Mz φ| (N)
 //! ```
 //!
 //! Every dataset has the same length n as `/time_s`, a `units` attribute
@@ -78,10 +82,11 @@
 //! `l_c = n_c × t_c`; forces and moments are those acting **on the wheel**.
 //! A zone's f64 values are NaN at samples where it is not in contact.
 //!
-//! `y_n`, `q_n`, `y_over_q`, `lead_m` and `fallback` were added after the
-//! first files of version 1 were written (`Column::added_later`): the
-//! reader fills them (Y, Q and Y/Q from the zones, NaN leads, no
-//! fallbacks) when a file lacks them.
+//! `y_n`, `q_n`, `y_over_q`, `lead_m`, `fallback`, `track_s_m`, `sum_y_n`
+//! and the `wear_number_n` of wheels and zones were added after the first
+//! files of version 1 were written (`Column::added_later`): the reader
+//! fills them (Y, Q, Y/Q, ΣY and Tγ from the zones, NaN leads and track
+//! positions, no fallbacks) when a file lacks them.
 //!
 //! Datasets are uncompressed, chunked ([`super::RESULTS_CHUNK_SAMPLES`]
 //! samples per chunk) and extendable: `sim run` appends the samples while
@@ -370,12 +375,7 @@ pub fn read_results(path: &Path) -> Result<RunResults, SchemaError> {
         let what = format!("/{}", wheelset_group(i));
         let mut ws = WheelsetSeries::new(attrs::read_str(path, &g, &what, "name")?);
         let len = time_s.len();
-        let missing = read_columns(path, &g, &WHEELSET_COLUMNS, &mut ws, n)?;
-        // A file from before the track position was stored: unknown (NaN).
-        fill_columns(&mut ws, &missing, len, |_, _| WheelsetSample {
-            track_s_m: f64::NAN,
-            ..WheelsetSample::default()
-        });
+        let ws_missing = read_columns(path, &g, &WHEELSET_COLUMNS, &mut ws, n)?;
         for (side, (wheel, wg)) in ws.wheels.iter_mut().zip(WHEEL_GROUPS).enumerate() {
             let g = open_group(path, &g, wg)?;
             let what = format!("{what}/{wg}");
@@ -383,7 +383,10 @@ pub fn read_results(path: &Path) -> Result<RunResults, SchemaError> {
             for (zone, zg) in wheel.zones.iter_mut().zip(ZONE_GROUPS) {
                 let g = open_group(path, &g, zg)?;
                 let missing = read_columns(path, &g, &ZONE_COLUMNS, zone, n)?;
-                fill_columns(zone, &missing, len, |_, _| ZoneSample::NO_CONTACT);
+                // Derived columns (Tγ) from the zone's values read.
+                fill_columns(zone, &missing, len, |z, i| {
+                    z.sample(i).unwrap_or(ZoneSample::NO_CONTACT)
+                });
             }
             // A file from before Y/Q was stored: from the zones.
             fill_columns(wheel, &missing, len, |w, i| {
@@ -410,6 +413,13 @@ pub fn read_results(path: &Path) -> Result<RunResults, SchemaError> {
                 });
             }
         }
+        // A file from before the track position was stored: unknown (NaN);
+        // ΣY from the wheels read.
+        fill_columns(&mut ws, &ws_missing, len, |ws, i| WheelsetSample {
+            track_s_m: f64::NAN,
+            wheels: [0, 1].map(|k| ws.wheels[k].sample(i).unwrap_or_default()),
+            ..WheelsetSample::default()
+        });
         wheelsets.push(ws);
     }
     let results = RunResults {
