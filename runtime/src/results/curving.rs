@@ -94,7 +94,10 @@ mod tests {
         };
         let right = WheelSample {
             travelled_m: 0.0,
-            zones: [zone(2e3, 0.0, 0.0, 0.0, 0.0), zone(28e3, 0.0, 0.0, 0.0, 0.0)],
+            zones: [
+                zone(2e3, 0.0, 0.0, 0.0, 0.0),
+                zone(28e3, 0.0, 0.0, 0.0, 0.0),
+            ],
         };
         let s = WheelsetSample {
             wheels: [left, right],
