@@ -148,3 +148,60 @@ pub fn arc_summaries(wheelsets: &[WheelsetSeries], elements: &[TrackElement]) ->
         .filter(|a| a.wheelsets.iter().any(|w| w.covered_m > 0.0))
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quasi_static_values_are_taken_over_the_arc_only() {
+        // 0.5 m per sample over s = 0 … 100 m; ΣY 5 kN outside the arc
+        // [40, 80] m, inside 20 kN with one 60 kN sample at s = 60 m.
+        let n = 201;
+        let mut w = WheelsetSeries::new("front");
+        w.distance_m = (0..n).map(|k| 0.5 * k as f64).collect();
+        w.track_s_m = w.distance_m.clone();
+        w.sum_y_n = w
+            .track_s_m
+            .iter()
+            .map(|&s| match s {
+                s if s == 60.0 => 60e3,
+                s if (40.0..=80.0).contains(&s) => 20e3,
+                _ => 5e3,
+            })
+            .collect();
+        let a = arc_wheelset(&w, 40.0, 80.0);
+        assert_eq!(a.covered_m, 40.0);
+        let q = a.quantities.iter().find(|q| q.quantity == "sum_y").unwrap();
+        assert_eq!(q.samples, 81);
+        assert_eq!(q.quasi_static, Some(20.0));
+        // Windows inside the arc: ending at 42 … 80 m (77); the spike's 4
+        // windows average (60 + 3·20)/4 = 30 kN; 99.85 % of 77 means
+        // interpolates between the two largest (both 30).
+        assert_eq!(q.windows, 77);
+        assert!((q.high_2m.unwrap() - 30.0).abs() < 1e-9, "{q:?}");
+        assert!((q.low_2m.unwrap() - 20.0).abs() < 1e-9, "{q:?}");
+        // Quantities without samples have no values.
+        let y = a
+            .quantities
+            .iter()
+            .find(|q| q.quantity == "y_left")
+            .unwrap();
+        assert_eq!((y.samples, y.quasi_static), (0, None));
+        // Arcs the run does not reach are left out.
+        let e = TrackElement {
+            kind: ElementKind::Arc,
+            start_s_m: 200.0,
+            end_s_m: 300.0,
+            mean_curvature_1_m: 1e-3,
+            radius_m: Some(1e3),
+        };
+        assert!(arc_summaries(&[w.clone()], &[e]).is_empty());
+        let e = TrackElement {
+            start_s_m: 40.0,
+            end_s_m: 80.0,
+            ..e
+        };
+        assert_eq!(arc_summaries(&[w], &[e]).len(), 1);
+    }
+}

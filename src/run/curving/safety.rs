@@ -318,3 +318,105 @@ pub fn wheelset_safety(w: &WheelsetSeries) -> WheelsetSafety {
         wear,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A wheelset at 0.5 m per sample: Q = 50 kN on both wheels, ΣY and
+    /// the left wheel's Q as given from sample 4 (past the first 2 m).
+    fn series(n: usize, sum_y_n: f64, q_left_n: f64) -> WheelsetSeries {
+        let mut w = WheelsetSeries::new("front");
+        w.distance_m = (0..n).map(|k| 0.5 * k as f64).collect();
+        w.track_s_m = w.distance_m.iter().map(|d| 100.0 + d).collect();
+        w.yaw_rad = (0..n).map(|k| if k == 7 { -4e-3 } else { 1e-3 }).collect();
+        w.sum_y_n = (0..n).map(|k| if k < 5 { 0.0 } else { sum_y_n }).collect();
+        for (side, wheel) in w.wheels.iter_mut().enumerate() {
+            wheel.q_n = (0..n)
+                .map(|k| if k >= 5 && side == 0 { q_left_n } else { 50e3 })
+                .collect();
+            wheel.wear_number_n = (0..n).map(|k| 10.0 * k as f64).collect();
+            wheel.zones[0].wear_number_n = wheel.wear_number_n.clone();
+            wheel.zones[1].wear_number_n = vec![f64::NAN; n];
+        }
+        w
+    }
+
+    #[test]
+    fn static_load_is_the_first_two_metres_mean() {
+        let mut w = series(20, 0.0, 50e3);
+        w.wheels[1].q_n[0] = f64::NAN; // one wheel airborne: counts 0
+        let (p, n) = static_axle_load_n(&w).unwrap();
+        assert_eq!(n, 5); // 0, 0.5, … 2.0 m
+        assert!((p - (100e3 * 4.0 + 50e3) / 5.0).abs() < 1e-6, "{p}");
+        w.wheels[0].q_n = vec![f64::NAN; 20];
+        w.wheels[1].q_n = vec![f64::NAN; 20];
+        assert_eq!(static_axle_load_n(&w), None);
+    }
+
+    #[test]
+    fn prudhomme_limit_is_10_plus_p_over_3() {
+        // P = 100 kN: the limit is 10 + 100/3 = 43.33 kN.
+        let s = wheelset_safety(&series(30, -45e3, 50e3));
+        let p = &s.prudhomme;
+        assert!((s.static_axle_load_kn.unwrap() - 100.0).abs() < 1e-9);
+        assert!((p.limit_kn.unwrap() - 43.333_333).abs() < 1e-5);
+        // |ΣY| of 45 kN over whole windows: above the limit.
+        assert!((p.max_abs_sum_y_2m_kn.unwrap() - 45.0).abs() < 1e-9);
+        assert_eq!(p.verdict, SafetyVerdict::AboveLimit);
+        assert_eq!(p.windows, 26);
+        assert_eq!(p.valid_windows, 26);
+        let s = wheelset_safety(&series(30, 40e3, 50e3));
+        assert_eq!(s.prudhomme.verdict, SafetyVerdict::BelowLimit);
+        // A spike of 80 kN in one sample: the 2 m mean (4 samples) is
+        // (80 + 3·40)/4 = 50 kN; the sample maximum is reported beside.
+        let mut w = series(30, 40e3, 50e3);
+        w.sum_y_n[20] = 80e3;
+        let s = wheelset_safety(&w);
+        assert!((s.prudhomme.max_abs_sum_y_kn.unwrap() - 80.0).abs() < 1e-9);
+        assert!((s.prudhomme.max_abs_sum_y_2m_kn.unwrap() - 50.0).abs() < 1e-9);
+        assert_eq!(s.prudhomme.max_at_track_s_m, Some(110.0));
+        // Shorter than 2 m.
+        let s = wheelset_safety(&series(3, 40e3, 50e3));
+        assert_eq!(s.prudhomme.verdict, SafetyVerdict::ShorterThanWindow);
+    }
+
+    #[test]
+    fn unloading_is_q0_minus_q_over_q0() {
+        // Q0 = 50 kN; the left wheel at 15 kN: ΔQ/Q0 = 0.7 > 0.6.
+        let s = wheelset_safety(&series(30, 0.0, 15e3));
+        let l = &s.unloading[0];
+        assert!((l.max_delta_q_over_q0.unwrap() - 0.7).abs() < 1e-12);
+        assert!((l.max_delta_q_over_q0_2m.unwrap() - 0.7).abs() < 1e-12);
+        assert_eq!(l.verdict, SafetyVerdict::AboveLimit);
+        assert_eq!(s.unloading[1].verdict, SafetyVerdict::BelowLimit);
+        assert_eq!(s.unloading[1].max_delta_q_over_q0, Some(0.0));
+        // Airborne (no contact): Q = 0, full unloading.
+        let mut w = series(30, 0.0, 40e3);
+        w.wheels[0].q_n[12] = f64::NAN;
+        let s = wheelset_safety(&w);
+        assert_eq!(s.unloading[0].max_delta_q_over_q0, Some(1.0));
+        assert_eq!(s.unloading[0].verdict, SafetyVerdict::BelowLimit);
+        // No contact at the start: no static load, no verdict.
+        let mut w = series(30, 0.0, 40e3);
+        for wheel in &mut w.wheels {
+            wheel.q_n[..5].fill(f64::NAN);
+        }
+        let s = wheelset_safety(&w);
+        assert_eq!(s.unloading[0].verdict, SafetyVerdict::NoStaticLoad);
+        assert_eq!(s.prudhomme.verdict, SafetyVerdict::NoStaticLoad);
+    }
+
+    #[test]
+    fn angle_of_attack_and_wear() {
+        let s = wheelset_safety(&series(10, 0.0, 50e3));
+        assert_eq!(s.max_angle_of_attack_mrad, Some(-4.0));
+        assert_eq!(s.max_angle_of_attack_at_track_s_m, Some(103.5));
+        let w = &s.wear[0];
+        // 0, 10, … 90 N.
+        assert_eq!(w.mean_wear_number_n, Some(45.0));
+        assert_eq!(w.max_wear_number_n, Some(90.0));
+        assert_eq!(w.tread_mean_n, Some(45.0));
+        assert_eq!(w.flange_mean_n, None);
+    }
+}
