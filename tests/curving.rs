@@ -50,7 +50,12 @@ fn a_curve_run_reports_curving_safety_and_wear() {
     assert!(last > 2e3 && last < 20e3, "ΣY {last} N");
     let t = front.wheels[1].wear_number_n.last().copied().unwrap();
     assert!(t > 50.0 && t < 1000.0, "Tγ {t} N");
-    assert!(front.wheels[1].zones[0].wear_number_n.iter().any(|v| v.is_finite()));
+    assert!(
+        front.wheels[1].zones[0]
+            .wear_number_n
+            .iter()
+            .any(|v| v.is_finite())
+    );
 
     // JSON: the verdicts with their criteria, from the static load.
     let s = &j["wheelsets"][0]["safety"];
@@ -85,7 +90,10 @@ fn a_curve_run_reports_curving_safety_and_wear() {
         ["straight", "transition", "arc", "transition", "straight"]
     );
     let arc = &j["curving"]["arcs"][0];
-    assert!((arc["radius_m"].as_f64().unwrap() - 300.0).abs() < 6.0, "{arc}");
+    assert!(
+        (arc["radius_m"].as_f64().unwrap() - 300.0).abs() < 6.0,
+        "{arc}"
+    );
     let qs = arc["wheelsets"][0]["quantities"].as_array().unwrap();
     let sum_y = qs.iter().find(|q| q["quantity"] == "sum_y").unwrap();
     let qst = sum_y["quasi_static"].as_f64().unwrap();

@@ -215,3 +215,85 @@ pub fn write_curving_plot(
     .context("writing the curving plot")?;
     Ok(path)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use runtime::contact::nadal::NadalLimit;
+    use runtime::results::{WheelSample, WheelsetSample, ZoneSample};
+
+    fn element(kind: ElementKind, from: f64, to: f64, k: f64) -> TrackElement {
+        TrackElement {
+            kind,
+            start_s_m: from,
+            end_s_m: to,
+            mean_curvature_1_m: k,
+            radius_m: (kind == ElementKind::Arc).then(|| 1.0 / k),
+        }
+    }
+
+    #[test]
+    fn the_page_has_its_panels_limits_and_shading() {
+        // One wheelset, 50 kN per wheel: P = 100 kN, limit 43.3 kN.
+        let mut r = RunResults::with_wheelsets(["front"]);
+        let zone = ZoneSample {
+            in_contact: true,
+            vertical_force_n: 50e3,
+            lateral_force_n: 1e3,
+            ..ZoneSample::NO_CONTACT
+        };
+        for k in 0..40 {
+            let wheel = WheelSample {
+                travelled_m: 0.5 * f64::from(k),
+                zones: [zone, ZoneSample::NO_CONTACT],
+            };
+            let s = WheelsetSample {
+                distance_m: 0.5 * f64::from(k),
+                track_s_m: 40.0 + 0.5 * f64::from(k),
+                wheels: [wheel, wheel],
+                ..WheelsetSample::default()
+            };
+            r.push(0.01 * f64::from(k), &[s]).unwrap();
+        }
+        let nadal = NadalLimit {
+            flange_angle_rad: 70f64.to_radians(),
+            friction: 0.3,
+            limit: 1.342,
+        };
+        r.wheelsets[0].wheels[0].nadal = Some(nadal);
+        r.wheelsets[0].wheels[1].nadal = Some(nadal);
+        let elements = [
+            element(ElementKind::Straight, 0.0, 45.0, 0.0),
+            element(ElementKind::Transition, 45.0, 50.0, 1e-3),
+            element(ElementKind::Arc, 50.0, 70.0, 2e-3),
+        ];
+        let p = curving_panels(&r, &elements);
+        assert_eq!(p.len(), 8);
+        // Two bands on every panel (the straight is unshaded).
+        assert!(p.iter().all(|c| c.x_bands.len() == 2));
+        assert_eq!(p[0].x_range, Some((40.0, 59.5)));
+        // ΣY: the series and ±(10 + 100/3) kN.
+        let lim: Vec<f64> = p[2].series[1..].iter().map(|s| s.points[0].1).collect();
+        assert!(
+            (lim[0] - 43.333).abs() < 1e-3 && (lim[1] + 43.333).abs() < 1e-3,
+            "{lim:?}"
+        );
+        // ΣY = 1 + 1 kN (both zones push left).
+        assert!((p[2].series[0].points[0].1 - 2.0).abs() < 1e-12);
+        // Y/Q: two wheels and one Nadal line.
+        assert_eq!(p[3].series.len(), 3);
+        assert_eq!(p[3].series[2].points[0].1, 1.342);
+        // Curvature: straight 0, ramp to the arc's 2 /km, arc 2 /km.
+        assert_eq!(
+            p[7].series[0].points,
+            [
+                (0.0, 0.0),
+                (45.0, 0.0),
+                (45.0, 0.0),
+                (50.0, 2.0),
+                (50.0, 2.0),
+                (70.0, 2.0)
+            ]
+        );
+    }
+}
