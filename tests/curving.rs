@@ -11,9 +11,7 @@ mod common;
 use common::*;
 use runtime::io::schema::read_results;
 
-const ARGS: [&str; 10] = [
-    "--set",
-    "track.centerline=../tracks/curve_r300/centerline.csv",
+const ARGS: [&str; 8] = [
     "--set",
     "initial.s_m=95",
     "--set",
@@ -23,6 +21,13 @@ const ARGS: [&str; 10] = [
     "--set",
     "initial.lateral_m=0",
 ];
+
+/// The curve's centreline, as an absolute path (valid however `--set`
+/// resolves relative ones).
+fn centerline() -> String {
+    let p = shipped("tracks/curve_r300/centerline.csv");
+    format!("track.centerline={}", p.display())
+}
 
 #[test]
 fn a_curve_run_reports_curving_safety_and_wear() {
@@ -35,6 +40,7 @@ fn a_curve_run_reports_curving_safety_and_wear() {
         .arg(&out)
         .arg("--plots")
         .arg(dir.join("plots"))
+        .args(["--set", &centerline()])
         .args(ARGS));
     assert!(o.status.success(), "{}", stderr(&o));
     let j: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("JSON summary");
@@ -115,6 +121,7 @@ fn a_curve_run_reports_curving_safety_and_wear() {
         .env("RAILSIM_CACHE_DIR", dir.join("cache"))
         .args(["run", "-q", "--no-plots", scene.to_str().unwrap(), "-o"])
         .arg(dir.join("text.h5"))
+        .args(["--set", &centerline()])
         .args(ARGS));
     let text = stdout(&o);
     for needle in [
