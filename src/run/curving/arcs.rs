@@ -164,10 +164,14 @@ mod tests {
         w.sum_y_n = w
             .track_s_m
             .iter()
-            .map(|&s| match s {
-                s if s == 60.0 => 60e3,
-                s if (40.0..=80.0).contains(&s) => 20e3,
-                _ => 5e3,
+            .map(|&s| {
+                if s == 60.0 {
+                    60e3
+                } else if (40.0..=80.0).contains(&s) {
+                    20e3
+                } else {
+                    5e3
+                }
             })
             .collect();
         let a = arc_wheelset(&w, 40.0, 80.0);

@@ -169,7 +169,9 @@ pub fn static_axle_load_n(w: &WheelsetSeries) -> Option<(f64, usize)> {
     let mut sum = 0.0;
     let mut n = 0;
     for (i, d) in w.distance_m.iter().enumerate() {
-        if !(d - d0 <= STATIC_LOAD_WINDOW_M) {
+        // A NaN distance ends the start too.
+        let in_start = d - d0 <= STATIC_LOAD_WINDOW_M;
+        if !in_start {
             break;
         }
         let (l, r) = (w.wheels[0].q_n.get(i)?, w.wheels[1].q_n.get(i)?);

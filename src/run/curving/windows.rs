@@ -39,7 +39,8 @@ pub fn sliding_means(
             }
             lo += 1;
         }
-        if !(d - start >= window_m) {
+        let covered = d - start >= window_m;
+        if !covered {
             continue;
         }
         let samples = i + 1 - lo;
