@@ -6,13 +6,16 @@
 //! - **Static loads**: P, the static axle load, is the mean of
 //!   Q_left + Q_right (a wheel without contact counts 0) over the samples of
 //!   the run's first [`STATIC_LOAD_WINDOW_M`] = 2 m; Q0 = P/2 is the
-//!   static wheel load of either wheel. The run starts from static
-//!   equilibrium (the vehicle is settled on the track before the run,
-//!   docs/reference/08-multibody.md), so these are the vehicle's static
-//!   loads as the run itself measures them; a run that starts inside a
-//!   canted curve measures them along the track's up axis there (the sum
-//!   differs from the level-track load by the cant's cos φ and the
-//!   centrifugal force's sin φ, under 1 % for 150 mm of cant).
+//!   static wheel load of either wheel. Every wheelset is settled under
+//!   its static wheel load before the run (docs/reference/08-multibody.md
+//!   §8.3), so on a straight start these are the vehicle's static loads as
+//!   the run itself measures them. A run that starts inside a curve starts
+//!   away from its quasi-static state there (the bodies start at their
+//!   assembly positions, §8.3): P is then the mean over the first
+//!   transient, and the sum along the track's up axis differs from the
+//!   level-track load by the cant's cos φ and the centrifugal force's
+//!   sin φ (under 1 % for 150 mm of cant). Start on the straight before
+//!   the curve for the vehicle's static loads.
 //! - **Prud'homme** (Prud'homme 1970, "La résistance de la voie aux efforts
 //!   transversaux exercés par le matériel roulant", Revue générale des
 //!   chemins de fer; EN 14363:2016 §7.6 with the limit
