@@ -234,7 +234,7 @@ pub const WHEELSET_COLUMNS: [Column<WheelsetSeries, WheelsetSample>; 7] = [
     derived_column!(
         sum_y_n,
         "N",
-        "sum Y, the track shifting force: lateral contact forces of both wheels (tread + flange) summed along the track's lateral axis, on the wheelset, + left (= Y_right - Y_left); NaN without contact",
+        "sum Y, the track shifting force: lateral contact forces of both wheels (tread + flange) summed along the track's lateral axis, on the wheelset, + left (= Y_right - Y_left); 0 without contact",
         sum_y_n
     ),
 ];

@@ -38,15 +38,16 @@ pub fn wheel_wear_number_n(zones: &[ZoneSample; 2]) -> f64 {
 /// ΣY of a wheelset (N; module docs): the lateral contact forces of both
 /// wheels summed along the track's lateral axis, + left (on the
 /// wheelset). With the wheels' Y (+ towards the track centre) it is
-/// Y_right − Y_left. NaN when no zone of either wheel is in contact.
+/// Y_right − Y_left. 0 when no zone of either wheel is in contact (an
+/// airborne wheelset puts no force on the track).
 pub fn sum_y_n(s: &WheelsetSample) -> f64 {
     s.wheels
         .iter()
         .flat_map(|w| w.zones.iter())
         .filter(|z| z.in_contact)
         .map(|z| z.lateral_force_n)
-        .reduce(|a, b| a + b)
-        .unwrap_or(f64::NAN)
+        .sum::<f64>()
+        + 0.0
 }
 
 #[cfg(test)]
@@ -107,6 +108,10 @@ mod tests {
         let (yl, _, _) = wheel_y_q(0, &left.zones);
         let (yr, _, _) = wheel_y_q(1, &right.zones);
         assert!((sum_y_n(&s) - (yr - yl)).abs() < 1e-9);
-        assert!(sum_y_n(&WheelsetSample::default()).is_nan());
+        // Airborne: no force on the track (+0.0, not the −0.0 of an empty sum).
+        assert_eq!(
+            sum_y_n(&WheelsetSample::default()).to_bits(),
+            0f64.to_bits()
+        );
     }
 }

@@ -71,7 +71,7 @@ pub struct WheelsetSeries {
     pub track_s_m: Vec<f64>,
     /// ΣY, the track shifting force: the lateral contact forces of both
     /// wheels summed in the track plane (N), + left ([`curving::sum_y_n`]);
-    /// NaN without contact.
+    /// 0 without contact.
     pub sum_y_n: Vec<f64>,
     /// `[left, right]`, facing the direction of travel.
     pub wheels: [WheelSeries; 2],

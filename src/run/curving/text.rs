@@ -94,16 +94,64 @@ fn arc_text(a: &ArcSummary) -> String {
                 (Some(l), Some(h)) => Some(if l.abs() > h.abs() { l } else { h }),
                 _ => None,
             };
+            let units = if q.units == "1" {
+                String::new()
+            } else {
+                format!(" {}", q.units)
+            };
             t += &format!(
-                " {} {}/{} {};",
+                " {} {}/{}{units};",
                 q.quantity,
                 opt(q.quasi_static, 3),
                 opt(extreme, 3),
-                q.units
             );
         }
         t.pop();
         t += "\n";
     }
     t
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::arcs::{ArcWheelset, QuasiStatic};
+    use super::*;
+
+    #[test]
+    fn an_arc_line_gives_the_larger_extreme_and_units() {
+        let q = |quantity, units, low, high| QuasiStatic {
+            quantity,
+            units,
+            samples: 10,
+            quasi_static: Some(1.0),
+            windows: 5,
+            low_2m: Some(low),
+            high_2m: Some(high),
+        };
+        let a = ArcSummary {
+            start_s_m: 107.1,
+            end_s_m: 263.0,
+            radius_m: 300.0,
+            wheelsets: vec![ArcWheelset {
+                name: "front".into(),
+                covered_m: 155.8,
+                quantities: vec![
+                    q("sum_y", "kN", -12.0, 11.0),
+                    q("y_over_q_left", "1", 0.2, 0.4),
+                    q("speed", "m/s", 20.0, 20.0),
+                ],
+            }],
+        };
+        let c = CurvingSummary {
+            track_elements: vec![],
+            arcs: vec![a],
+        };
+        // No elements: nothing to print.
+        assert_eq!(curving_text(&c), "");
+        let t = arc_text(&c.arcs[0]);
+        assert!(t.contains("arc 107.1–263.0 m (R 300 m)"), "{t}");
+        assert!(t.contains("sum_y 1.000/-12.000 kN;"), "{t}");
+        assert!(t.contains("y_over_q_left 1.000/0.400\n"), "{t}");
+        assert!(!t.contains("speed"), "{t}");
+    }
 }
