@@ -355,6 +355,7 @@ fn default_scene_writes_results_and_plots() {
         vec![
             "contact_forces.png",
             "creepages.png",
+            "curving.png",
             "lateral_displacement.png"
         ]
     );

@@ -138,6 +138,18 @@ pub struct LineChart {
     /// Same scale (units per pixel) on both axes; the range that would be
     /// drawn at the larger scale is widened about its centre.
     pub equal_aspect: bool,
+    /// Shaded bands across the whole height, behind the series (e.g. the
+    /// elements of a track along its position).
+    pub x_bands: Vec<XBand>,
+}
+
+/// A shaded band `from ≤ x ≤ to` across a chart's height, drawn behind the
+/// series in `rgb` at 30 % opacity; parts outside the x range are clipped.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct XBand {
+    pub from: f64,
+    pub to: f64,
+    pub rgb: (u8, u8, u8),
 }
 
 impl LineChart {
@@ -1101,6 +1113,18 @@ fn draw_panel<DB: DrawingBackend>(
         .set_all_tick_mark_size(sz.tick_mark)
         .draw()
         .map_err(e)?;
+
+    for b in &chart.x_bands {
+        let (from, to) = (b.from.max(x0), b.to.min(x1));
+        if from < to {
+            let (r, g, bl) = b.rgb;
+            cc.draw_series(std::iter::once(Rectangle::new(
+                [(from, y0), (to, y1)],
+                RGBColor(r, g, bl).mix(0.3).filled(),
+            )))
+            .map_err(e)?;
+        }
+    }
 
     let labelled = chart
         .series

@@ -4,8 +4,8 @@
 use std::path::{Path, PathBuf};
 
 use preproc::plot::{
-    LineChart, PALETTE, PlotError, Series, SeriesStyle, render_line_chart, render_multi_panel,
-    write_line_chart, write_multi_panel,
+    LineChart, PALETTE, PlotError, Series, SeriesStyle, XBand, render_line_chart,
+    render_multi_panel, write_line_chart, write_multi_panel,
 };
 
 const PNG_SIGNATURE: [u8; 8] = [0x89, b'P', b'N', b'G', 0x0D, 0x0A, 0x1A, 0x0A];
@@ -183,6 +183,59 @@ fn line_chart_png_has_signature_size_and_content() {
 
 fn count_colour(rgb: &[u8], (r, g, b): (u8, u8, u8)) -> usize {
     rgb.chunks_exact(3).filter(|p| p == &[r, g, b]).count()
+}
+
+#[test]
+fn x_bands_shade_their_stretch_behind_the_series() {
+    // Red at 30 % on white: (255, 178, 178) give or take the rounding.
+    let pink = |rgb: &[u8]| {
+        rgb.chunks_exact(3)
+            .filter(|p| p[0] == 255 && (170..=186).contains(&p[1]) && p[1] == p[2])
+            .count()
+    };
+    let chart = |bands: Vec<XBand>| LineChart {
+        x_range: Some((0.0, 10.0)),
+        y_range: Some((0.0, 1.0)),
+        x_bands: bands,
+        ..LineChart::new("", "x [m]", "y [m]")
+            .with_series(Series::line("", vec![(0.0, 0.5), (10.0, 0.5)]))
+    };
+    let band = |from, to| XBand {
+        from,
+        to,
+        rgb: (255, 0, 0),
+    };
+    let none = pink(&render_line_chart(&chart(vec![]), (600, 400)).unwrap().rgb);
+    let three = pink(
+        &render_line_chart(&chart(vec![band(2.0, 5.0)]), (600, 400))
+            .unwrap()
+            .rgb,
+    );
+    let six = pink(
+        &render_line_chart(&chart(vec![band(2.0, 8.0)]), (600, 400))
+            .unwrap()
+            .rgb,
+    );
+    // Clipped to the x range: only 0 … 3 of −5 … 3 shows.
+    let clipped = pink(
+        &render_line_chart(&chart(vec![band(-5.0, 3.0)]), (600, 400))
+            .unwrap()
+            .rgb,
+    );
+    let outside = pink(
+        &render_line_chart(&chart(vec![band(12.0, 15.0)]), (600, 400))
+            .unwrap()
+            .rgb,
+    );
+    assert_eq!(none, 0);
+    assert!(three > 10_000, "{three}");
+    let ratio = six as f64 / three as f64;
+    assert!((ratio - 2.0).abs() < 0.1, "{six} / {three}");
+    assert!(
+        (clipped as f64 / three as f64 - 1.0).abs() < 0.1,
+        "{clipped}"
+    );
+    assert_eq!(outside, 0);
 }
 
 #[test]

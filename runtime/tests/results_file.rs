@@ -299,6 +299,8 @@ fn results_h5dump_shows_the_layout() {
         "DATASET \"fallback\"",
         "DATASET \"y_over_q\"",
         "DATASET \"track_s_m\"",
+        "DATASET \"sum_y_n\"",
+        "DATASET \"wear_number_n\"",
         "ATTRIBUTE \"units\"",
         "ATTRIBUTE \"description\"",
         // Extendable: 20 samples now, no fixed maximum.
@@ -308,14 +310,14 @@ fn results_h5dump_shows_the_layout() {
     ] {
         assert!(text.contains(needle), "h5dump -H lacks {needle}:\n{text}");
     }
-    // Every wheel has 2 zones × 15 datasets (in_contact, 13 values,
-    // fallback) + 5 (travelled_m, flange_contact, y_n, q_n, y_over_q): 35
-    // per wheel, 70 + 6 per wheelset (lateral_m, yaw_rad, roll_rad,
-    // distance_m, speed_m_s, track_s_m), 15 per body (3), plus time_s and
-    // scene.
+    // Every wheel has 2 zones × 16 datasets (in_contact, 13 values,
+    // fallback, wear_number_n) + 6 (travelled_m, flange_contact, y_n, q_n,
+    // y_over_q, wear_number_n): 38 per wheel, 76 + 7 per wheelset
+    // (lateral_m, yaw_rad, roll_rad, distance_m, speed_m_s, track_s_m,
+    // sum_y_n), 15 per body (3), plus time_s and scene.
     assert_eq!(
         text.matches("DATASET \"").count(),
-        2 * (6 + 2 * 35) + 3 * BODY_COLUMNS.len() + 2
+        2 * (7 + 2 * 38) + 3 * BODY_COLUMNS.len() + 2
     );
     assert_eq!(BODY_COLUMNS.len(), 15);
     for needle in [
@@ -547,16 +549,19 @@ fn results_y_over_q_sign_and_old_files() {
         for ws in ["wheelset_0", "wheelset_1"] {
             for wheel in ["left", "right"] {
                 let g = f.group(&format!("{ws}/{wheel}")).unwrap();
-                for name in ["y_n", "q_n", "y_over_q"] {
+                for name in ["y_n", "q_n", "y_over_q", "wear_number_n"] {
                     g.unlink(name).unwrap();
                 }
                 for zone in ["tread", "flange"] {
                     let z = g.group(zone).unwrap();
-                    z.unlink("lead_m").unwrap();
-                    z.unlink("fallback").unwrap();
+                    for name in ["lead_m", "fallback", "wear_number_n"] {
+                        z.unlink(name).unwrap();
+                    }
                 }
             }
-            f.group(ws).unwrap().unlink("track_s_m").unwrap();
+            for name in ["track_s_m", "sum_y_n"] {
+                f.group(ws).unwrap().unlink(name).unwrap();
+            }
         }
         // Version 1: no bodies, and string attributes, as before they were
         // typed.
@@ -597,6 +602,18 @@ fn results_y_over_q_sign_and_old_files() {
     assert!(same_bits(&a.q_n, &b.q_n));
     assert!(b.zones[0].lead_m.iter().all(|v| v.is_nan()));
     assert!(b.zones[0].fallback.iter().all(|&f| f == 0));
+    // ΣY and the wear numbers are derived again from the zones.
+    assert!(same_bits(&a.wear_number_n, &b.wear_number_n));
+    for z in 0..2 {
+        assert!(same_bits(
+            &a.zones[z].wear_number_n,
+            &b.zones[z].wear_number_n
+        ));
+    }
+    assert!(a.wear_number_n.iter().any(|v| v.is_finite() && *v > 0.0));
+    let (a, b) = (&full.wheelsets[1], &old.wheelsets[1]);
+    assert!(same_bits(&a.sum_y_n, &b.sum_y_n));
+    assert!(a.sum_y_n.iter().any(|v| v.is_finite() && *v != 0.0));
 }
 
 /// The writer `sim run` uses: samples appended chunk by chunk while the

@@ -58,6 +58,13 @@ fn finish_run(
                 .into_iter()
                 .map(|p| p.display().to_string())
                 .collect();
+        let curving = super::curving_plot::write_curving_plot(
+            &outcome.results,
+            &outcome.summary.curving.track_elements,
+            dir,
+            &outcome.summary.title,
+        )?;
+        outcome.summary.plots.push(curving.display().to_string());
     }
     outcome.summary.peak_memory_mib = super::memory::peak_resident_mib();
     outcome.into_result(&output.display().to_string())

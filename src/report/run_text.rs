@@ -67,6 +67,10 @@ impl RunSummary {
         for w in &self.wheelsets {
             s += &crate::run::nadal::nadal_text(&w.name, &w.nadal);
         }
+        for w in &self.wheelsets {
+            s += &crate::run::curving::text::safety_text(&w.name, &w.safety);
+        }
+        s += &crate::run::curving::text::curving_text(&self.curving);
         s += &self.fallbacks.to_text();
         if let Some(st) = &self.stopped {
             s += &format!("  stopped early: {st}\n");

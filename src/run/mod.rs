@@ -10,6 +10,7 @@
 //! kept in [`RunOutcome::failure`] so that the results can be written first.
 
 pub mod blow_up;
+pub mod curving;
 pub mod diagnostics;
 pub mod nadal;
 pub mod stream;
@@ -265,6 +266,7 @@ fn run_session(
         summary_stride = s.view_into(&mut recorder.results);
     }
     let wheelsets = wheelset_summaries(&recorder.results);
+    let curving = curving::CurvingSummary::of(&session.track, &recorder.results);
     // What the inputs dropped (a profile cut to its longest stretch).
     let mut warnings: Vec<_> = session
         .warnings
@@ -424,6 +426,7 @@ fn run_session(
         flange_searches_skipped: stats_solvers.flange_skipped + stats_solvers.clear_skipped,
         flange_contact_states: counters.flange_contact_states,
         wheelsets,
+        curving,
         fallbacks,
         energy,
         stopped,

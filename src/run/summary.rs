@@ -27,6 +27,9 @@ pub struct WheelsetSummary {
     /// Nadal's criterion per wheel, left then right, with the fraction of
     /// samples each wheel was airborne ([`crate::run::nadal`]).
     pub nadal: Vec<crate::run::nadal::WheelNadal>,
+    /// ΣY against Prud'homme, ΔQ/Q0, angle of attack and Tγ
+    /// ([`crate::run::curving::safety`]).
+    pub safety: crate::run::curving::WheelsetSafety,
 }
 
 /// The energy bookkeeping of a run (J;
@@ -107,6 +110,9 @@ pub struct RunSummary {
     /// Accepted states with a flange in contact, summed over the wheels.
     pub flange_contact_states: u64,
     pub wheelsets: Vec<WheelsetSummary>,
+    /// The track's elements and the quasi-static values over its arcs
+    /// ([`crate::run::curving`]).
+    pub curving: crate::run::curving::CurvingSummary,
     /// Fallbacks the run went through ([`crate::run::diagnostics`]).
     pub fallbacks: crate::run::diagnostics::FallbackCounts,
     /// Energy bookkeeping between the first and the last accepted state.
@@ -171,6 +177,7 @@ pub(crate) fn wheelset_summaries(r: &RunResults) -> Vec<WheelsetSummary> {
                 flange_contact_right_s: time_in(&w.wheels[1].flange_contact),
                 flange_contact_events: events,
                 nadal: crate::run::nadal::nadal_summary(w, &r.time_s),
+                safety: crate::run::curving::safety::wheelset_safety(w),
             }
         })
         .collect()

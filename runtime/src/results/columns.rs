@@ -8,6 +8,7 @@
 //! left, `b` up; contact frame `n_c` from rail into wheel, `t_c` rolling
 //! direction, `l_c = n_c × t_c`; forces and moments act **on the wheel**.
 
+use super::curving::{sum_y_n, wear_number_n};
 use super::{
     FALLBACK_HERTZ_FLOOR, FALLBACK_MINIMISATION, WheelSeries, WheelValues, WheelsetSample,
     WheelsetSeries, ZoneSample, ZoneSeries,
@@ -57,7 +58,9 @@ pub struct Column<S, V> {
     /// Added to results schema version 1 after its first files were
     /// written: a reader of an older file that lacks it fills it (zones:
     /// the value of [`ZoneSample::NO_CONTACT`], i.e. NaN leads and no
-    /// fallbacks; wheels: Y, Q and Y/Q from the zones, [`WheelValues::of`]).
+    /// fallbacks; wheels: Y, Q, Y/Q and Tγ from the zones,
+    /// [`WheelValues::of`]; derived columns, ΣY and the zones' Tγ, from
+    /// the samples read).
     pub added_later: bool,
 }
 
@@ -171,6 +174,27 @@ macro_rules! bool_column {
     };
 }
 
+/// An `f64` column derived from the sample by `$value` (no field of its
+/// own in the sample; a sample read back does not carry it), added later.
+macro_rules! derived_column {
+    ($field:ident, $units:literal, $description:literal, $value:expr) => {
+        Column {
+            dataset: Dataset {
+                name: stringify!($field),
+                units: $units,
+                description: $description,
+            },
+            values: Values::F64(Access {
+                series: |s| &s.$field,
+                series_mut: |s| &mut s.$field,
+                value: $value,
+                set: |_, _| {},
+            }),
+            added_later: true,
+        }
+    };
+}
+
 /// The time of every sample ([`super::RunResults::time_s`]).
 pub const TIME_S: Dataset = Dataset {
     name: "time_s",
@@ -179,7 +203,7 @@ pub const TIME_S: Dataset = Dataset {
 };
 
 /// The series of a wheelset, in file order.
-pub const WHEELSET_COLUMNS: [Column<WheelsetSeries, WheelsetSample>; 6] = [
+pub const WHEELSET_COLUMNS: [Column<WheelsetSeries, WheelsetSample>; 7] = [
     f64_column!(
         lateral_m,
         "m",
@@ -207,10 +231,16 @@ pub const WHEELSET_COLUMNS: [Column<WheelsetSeries, WheelsetSample>; 6] = [
         "track position of the wheelset centre: arc length s of the track centreline at its section (NaN in files from before it was stored)",
         added_later: true
     ),
+    derived_column!(
+        sum_y_n,
+        "N",
+        "sum Y, the track shifting force: lateral contact forces of both wheels (tread + flange) summed along the track's lateral axis, on the wheelset, + left (= Y_right - Y_left); 0 without contact",
+        sum_y_n
+    ),
 ];
 
 /// The series of a wheel (its zones apart), in file order.
-pub const WHEEL_COLUMNS: [Column<WheelSeries, WheelValues>; 5] = [
+pub const WHEEL_COLUMNS: [Column<WheelSeries, WheelValues>; 6] = [
     f64_column!(
         travelled_m,
         "m",
@@ -238,10 +268,16 @@ pub const WHEEL_COLUMNS: [Column<WheelSeries, WheelValues>; 5] = [
         "Y/Q, Nadal's derailment quotient; compare with the group's nadal_limit attribute; NaN without contact",
         added_later: true
     ),
+    f64_column!(
+        wear_number_n,
+        "N",
+        "wear number T gamma of the wheel: its zones' wear numbers summed; NaN without contact",
+        added_later: true
+    ),
 ];
 
 /// The series of a contact zone, in file order.
-pub const ZONE_COLUMNS: [Column<ZoneSeries, ZoneSample>; 15] = [
+pub const ZONE_COLUMNS: [Column<ZoneSeries, ZoneSample>; 16] = [
     bool_column!(
         in_contact,
         "1 when this zone is in contact, else 0 (the zone's other series are NaN then)"
@@ -329,4 +365,10 @@ pub const ZONE_COLUMNS: [Column<ZoneSeries, ZoneSample>; 15] = [
         },
         added_later: true,
     },
+    derived_column!(
+        wear_number_n,
+        "N",
+        "wear number T gamma = |Fx xi| + |Fy eta| + |Mz phi| (creep forces times creepages, spin included); NaN out of contact",
+        wear_number_n
+    ),
 ];

@@ -18,6 +18,7 @@ pub mod attribute;
 pub mod columns;
 pub mod bodies;
 pub mod chunks;
+pub mod curving;
 
 pub use attribute::AttrValue;
 pub use bodies::{BODY_COLUMNS, BodyKind, BodySample, BodySeries, CarBody};
@@ -81,6 +82,10 @@ pub struct WheelsetSeries {
     /// s at the wheelset's section (m), as the track tables and the track
     /// files count it; NaN in files written before it was stored.
     pub track_s_m: Vec<f64>,
+    /// ΣY, the track shifting force: the lateral contact forces of both
+    /// wheels summed in the track plane (N), + left ([`curving::sum_y_n`]);
+    /// 0 without contact.
+    pub sum_y_n: Vec<f64>,
     /// `[left, right]`, facing the direction of travel.
     pub wheels: [WheelSeries; 2],
 }
@@ -103,6 +108,9 @@ pub struct WheelSeries {
     /// Y/Q (dimensionless), Nadal's derailment quotient
     /// ([`crate::contact::nadal`]); NaN without contact.
     pub y_over_q: Vec<f64>,
+    /// Tγ of the wheel: the wear numbers of its zones in contact summed
+    /// (N, [`curving::wheel_wear_number_n`]); NaN without contact.
+    pub wear_number_n: Vec<f64>,
     /// The wheel's Nadal limit (steepest flange angle, friction), when it
     /// has a flange and the writer knew it.
     pub nadal: Option<NadalLimit>,
@@ -152,6 +160,9 @@ pub struct ZoneSeries {
     /// Bit flags of the fallbacks ([`FALLBACK_MINIMISATION`],
     /// [`FALLBACK_HERTZ_FLOOR`]); 0 none.
     pub fallback: Vec<u8>,
+    /// Wear number Tγ = |Fx ξ| + |Fy η| + |Mz φ| (N,
+    /// [`curving::wear_number_n`]), from the values above.
+    pub wear_number_n: Vec<f64>,
 }
 
 /// One sample of a contact zone, for [`ZoneSeries::push`].
@@ -287,6 +298,8 @@ pub struct WheelValues {
     pub q_n: f64,
     /// See [`WheelSeries::y_over_q`].
     pub y_over_q: f64,
+    /// See [`WheelSeries::wear_number_n`].
+    pub wear_number_n: f64,
 }
 
 impl WheelValues {
@@ -300,6 +313,7 @@ impl WheelValues {
             y_n,
             q_n,
             y_over_q,
+            wear_number_n: curving::wheel_wear_number_n(&s.zones),
         }
     }
 }

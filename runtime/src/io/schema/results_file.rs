@@ -25,6 +25,8 @@
 //!     speed_m_s                  forward speed along the track (m/s)
 //!     track_s_m                  track position of the wheelset centre: the centreline's
 //!                                arc length s at its section (m; NaN in older files)
+//!     sum_y_n                    ΣY, track shifting force: both wheels' lateral contact
+//!                                forces summed on the wheelset, + left (N) = Y_right − Y_left
 //!     left/  right/              the two wheels (left/right facing the direction of travel)
 //!         travelled_m            1-D f64 [n], distance travelled by the wheel along its rail:
 //!                                the contact point's rail arc length since the start (m)
@@ -38,6 +40,7 @@
 //!                                attributes (when the wheel has a flange): flange_angle_rad
 //!                                (steepest flank), friction, nadal_limit =
 //!                                (tan γ − μ)/(1 + μ tan γ) (Nadal 1908)
+//!         wear_number_n          f64, Tγ of the wheel, its zones' summed (N); NaN likewise
 //!         tread/  flange/        the two contact zones, each with 1-D datasets [n]:
 //!             in_contact         u8, 1 when the zone is in contact, else 0
 //!             normal_n           f64, normal force on the wheel along n_c (N, ≥ 0)
@@ -65,6 +68,7 @@
 //!                                fallback (nearly conformal, Newton's Jacobian singular;
 //!                                `runtime::contact`), 2 = non-Hertzian geometry, ellipse
 //!                                from floored curvatures (`NonHertzianPolicy::Floor`); 0 none
+//!             wear_number_n      f64, wear number Tγ = |Fx ξ| + |Fy η| + |Mz φ| (N)
 //! /bodies/<name>/                every rigid body's track-relative state (position,
 //!                                yaw–roll–pitch, velocities, ride accelerations); layout in
 //!                                `results_bodies`, definitions in [`crate::results::bodies`]
@@ -84,10 +88,11 @@
 //!
 //! # Versions
 //!
-//! `y_n`, `q_n`, `y_over_q`, `lead_m`, `fallback` and `track_s_m` were
-//! added after the first files of version 1 were written
-//! (`Column::added_later`): the reader fills them (Y, Q and Y/Q from the
-//! zones, NaN leads, no fallbacks, NaN track positions) when a file lacks
+//! `y_n`, `q_n`, `y_over_q`, `lead_m`, `fallback`, `track_s_m`, `sum_y_n`
+//! and the `wear_number_n` of wheels and zones were added after the first
+//! files of version 1 were written (`Column::added_later`): the reader
+//! fills them (Y, Q, Y/Q, ΣY and Tγ from the zones, NaN leads, no
+//! fallbacks, NaN track positions) when a file lacks
 //! them. Version 2 stores the run attributes typed
 //! ([`crate::results::AttrValue`]; a version-1 reader reads every root
 //! attribute as a string and would fail on a number, hence the bump) and
@@ -387,12 +392,7 @@ pub fn read_results(path: &Path) -> Result<RunResults, SchemaError> {
         let what = format!("/{}", wheelset_group(i));
         let mut ws = WheelsetSeries::new(attrs::read_str(path, &g, &what, "name")?);
         let len = time_s.len();
-        let missing = read_columns(path, &g, &WHEELSET_COLUMNS, &mut ws, n)?;
-        // A file from before the track position was stored: unknown (NaN).
-        fill_columns(&mut ws, &missing, len, |_, _| WheelsetSample {
-            track_s_m: f64::NAN,
-            ..WheelsetSample::default()
-        });
+        let ws_missing = read_columns(path, &g, &WHEELSET_COLUMNS, &mut ws, n)?;
         for (side, (wheel, wg)) in ws.wheels.iter_mut().zip(WHEEL_GROUPS).enumerate() {
             let g = open_group(path, &g, wg)?;
             let what = format!("{what}/{wg}");
@@ -400,7 +400,10 @@ pub fn read_results(path: &Path) -> Result<RunResults, SchemaError> {
             for (zone, zg) in wheel.zones.iter_mut().zip(ZONE_GROUPS) {
                 let g = open_group(path, &g, zg)?;
                 let missing = read_columns(path, &g, &ZONE_COLUMNS, zone, n)?;
-                fill_columns(zone, &missing, len, |_, _| ZoneSample::NO_CONTACT);
+                // Derived columns (Tγ) from the zone's values read.
+                fill_columns(zone, &missing, len, |z, i| {
+                    z.sample(i).unwrap_or(ZoneSample::NO_CONTACT)
+                });
             }
             // A file from before Y/Q was stored: from the zones.
             fill_columns(wheel, &missing, len, |w, i| {
@@ -427,6 +430,13 @@ pub fn read_results(path: &Path) -> Result<RunResults, SchemaError> {
                 });
             }
         }
+        // A file from before the track position was stored: unknown (NaN);
+        // ΣY from the wheels read.
+        fill_columns(&mut ws, &ws_missing, len, |ws, i| WheelsetSample {
+            track_s_m: f64::NAN,
+            wheels: [0, 1].map(|k| ws.wheels[k].sample(i).unwrap_or_default()),
+            ..WheelsetSample::default()
+        });
         wheelsets.push(ws);
     }
     let (bodies, car_body) = super::results_bodies::read(path, &file, n)?;
