@@ -55,6 +55,7 @@ pub mod conicity;
 pub mod contact_plots;
 pub mod contact_table;
 pub mod csv;
+pub mod design;
 pub mod error;
 pub mod inputs;
 pub mod irregularity;
