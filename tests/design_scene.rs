@@ -23,7 +23,11 @@ fn track_preproc_builds_a_design_file_and_refuses_mixed_inputs() {
         out.to_str().unwrap(),
     ]));
     assert!(o.status.success(), "{}", stderr(&o));
-    assert!(stdout(&o).contains("min curve radius  600.0 m"), "{}", stdout(&o));
+    assert!(
+        stdout(&o).contains("min curve radius  600.0 m"),
+        "{}",
+        stdout(&o)
+    );
     let tables = runtime::io::schema::read_track(&out).unwrap();
     assert!((tables.centerline.length_m() - 1120.0).abs() < 1e-9);
     assert_eq!(tables.meta.cant_scheme, "design");
@@ -33,7 +37,9 @@ fn track_preproc_builds_a_design_file_and_refuses_mixed_inputs() {
             "--design",
             design.to_str().unwrap(),
             mixed,
-            shipped("tracks/straight_300m/centerline.csv").to_str().unwrap(),
+            shipped("tracks/straight_300m/centerline.csv")
+                .to_str()
+                .unwrap(),
             "-o",
             out.to_str().unwrap(),
         ]));

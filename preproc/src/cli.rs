@@ -221,7 +221,7 @@ pub struct BuildArgs {
     #[arg(long, value_name = "FILE", conflicts_with = "design")]
     pub cant: Option<PathBuf>,
     /// Track from design elements (TOML: straights, arcs, transitions,
-    /// cant ramps, grades; docs/reference/02-inputs.md §2.6), instead of
+    /// cant ramps, grades; docs/reference/02-inputs.md §2.9), instead of
     /// --centerline/--cant.
     #[arg(long, value_name = "FILE", conflicts_with = "centerline")]
     pub design: Option<PathBuf>,

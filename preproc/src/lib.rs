@@ -71,7 +71,7 @@ pub use config::{BuildConfig, Inclination, RailSpacing};
 pub use error::{BuildError, InputError};
 pub use model::{DesignInputs, Inputs, TrackInputs, TrackModel};
 pub use pipeline::{
-    BuildRequest, GeometryFiles, ContactTableReport, ContactTableRequest, build_tables, run_build,
+    BuildRequest, ContactTableReport, ContactTableRequest, GeometryFiles, build_tables, run_build,
     run_contact_table,
 };
 pub use progress::{NoProgress, Progress, ProgressSink};

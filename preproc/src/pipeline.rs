@@ -12,8 +12,8 @@ use runtime::io::schema;
 use crate::config::BuildConfig;
 use crate::contact_table::{ContactTableConfig, build_contact_table, conicity_of};
 use crate::csv::read_text;
-use crate::error::BuildError;
 use crate::design::DesignInput;
+use crate::error::BuildError;
 use crate::inputs::{CantInput, CenterlineInput, IrregularityInput};
 use crate::model::{DesignInputs, Inputs, TrackInputs, TrackModel};
 use crate::progress::{Progress, ProgressSink};
@@ -27,7 +27,7 @@ pub enum GeometryFiles {
         centerline: PathBuf,
         cant: Option<PathBuf>,
     },
-    /// A design file (TOML; docs/reference/02-inputs.md §2.6).
+    /// A design file (TOML; docs/reference/02-inputs.md §2.9).
     Design(PathBuf),
 }
 

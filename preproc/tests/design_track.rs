@@ -206,7 +206,10 @@ fn joints_are_continuous_and_arcs_are_circles() {
         for &s in &joints[1..joints.len() - 1] {
             let (a, b) = (d.at(s - 1e-9), d.at(s + 1e-9));
             assert!((a.position - b.position).norm() < 1e-8, "{design} {s}");
-            assert!((a.heading_rad - b.heading_rad).abs() < 1e-10, "{design} {s}");
+            assert!(
+                (a.heading_rad - b.heading_rad).abs() < 1e-10,
+                "{design} {s}"
+            );
             assert!(
                 (a.curvature_1_m - b.curvature_1_m).abs() < 1e-10,
                 "{design} {s}"
@@ -245,14 +248,22 @@ fn grades_and_vertical_curves() {
     let g1: f64 = 0.02;
     let hh = |u: f64| 0.5 * (u * (1.0 + u * u).sqrt() + u.asinh());
     let expect = 100.0 + (hh(g1) - hh(0.0)) / (g1 / 100.0) + 100.0 * (1.0 + g1 * g1).sqrt();
-    assert!((d.length_m() - expect).abs() < 1e-9, "{} {expect}", d.length_m());
+    assert!(
+        (d.length_m() - expect).abs() < 1e-9,
+        "{} {expect}",
+        d.length_m()
+    );
     let p = d.at(d.length_m() - 1.0);
     assert!((p.position.z - (1.0 + 0.02 * (p.sigma_m - 200.0))).abs() < 1e-9);
     let c = d.at(150.0).curve_point();
     assert!((c.d1.norm() - 1.0).abs() < 1e-15);
     let g = d.at(150.0).grade;
     let kv = (g1 / 100.0) / (1.0 + g * g).powf(1.5);
-    assert!((c.curvature() - kv).abs() < 1e-6 * kv, "{} {kv}", c.curvature());
+    assert!(
+        (c.curvature() - kv).abs() < 1e-6 * kv,
+        "{} {kv}",
+        c.curvature()
+    );
 }
 
 /// Every rule broken is named at its line and column; values beyond the
@@ -271,14 +282,18 @@ fn bad_files_are_refused_at_their_line_and_column() {
         "{head}[[element]]\ntype = \"transition\"\nlength_m = 80\nradius_end_m = 0.6\n"
     ));
     assert!(
-        e.starts_with("bad.toml, line 7, column 16: radius_end_m = 0.6 m") && e.contains("check the unit"),
+        e.starts_with("bad.toml, line 7, column 16: radius_end_m = 0.6 m")
+            && e.contains("check the unit"),
         "{e}"
     );
     // Cant in metres in a mm key.
     let e = parse(&format!(
         "{head}[[element]]\ntype = \"transition\"\nlength_m = 80\nradius_end_m = -600\ncant_end_mm = 0.12\n"
     ));
-    assert!(e.starts_with("bad.toml, line 8, column 15:") && e.contains("check the unit"), "{e}");
+    assert!(
+        e.starts_with("bad.toml, line 8, column 15:") && e.contains("check the unit"),
+        "{e}"
+    );
     // Cant beyond 200 mm.
     let e = parse(&format!(
         "{head}[[element]]\ntype = \"transition\"\nlength_m = 80\nradius_end_m = -600\ncant_end_mm = 250\n"
@@ -286,22 +301,37 @@ fn bad_files_are_refused_at_their_line_and_column() {
     assert!(e.contains("line 8") && e.contains("check the unit"), "{e}");
     // A negative length.
     let e = parse("[[element]]\ntype = \"straight\"\nlength_m = -5\n");
-    assert!(e.starts_with("bad.toml, line 3, column 12:") && e.contains("check the unit"), "{e}");
+    assert!(
+        e.starts_with("bad.toml, line 3, column 12:") && e.contains("check the unit"),
+        "{e}"
+    );
     // An arc straight after a straight: curvature step.
-    let e = parse(&format!("{head}[[element]]\ntype = \"arc\"\nlength_m = 80\nradius_m = 600\n"));
-    assert!(e.starts_with("bad.toml, line 7, column 12:") && e.contains("transition"), "{e}");
+    let e = parse(&format!(
+        "{head}[[element]]\ntype = \"arc\"\nlength_m = 80\nradius_m = 600\n"
+    ));
+    assert!(
+        e.starts_with("bad.toml, line 7, column 12:") && e.contains("transition"),
+        "{e}"
+    );
     // ... allowed with jump = true.
     assert!(
         DesignInput::parse(
             Path::new("ok.toml"),
-            &format!("{head}[[element]]\ntype = \"arc\"\nlength_m = 80\nradius_m = 600\njump = true\n"),
+            &format!(
+                "{head}[[element]]\ntype = \"arc\"\nlength_m = 80\nradius_m = 600\njump = true\n"
+            ),
             E0_M
         )
         .is_ok()
     );
     // A cant step.
-    let e = parse(&format!("{head}[[element]]\ntype = \"straight\"\nlength_m = 80\ncant_mm = 50\n"));
-    assert!(e.starts_with("bad.toml, line 7, column 11:") && e.contains("steps"), "{e}");
+    let e = parse(&format!(
+        "{head}[[element]]\ntype = \"straight\"\nlength_m = 80\ncant_mm = 50\n"
+    ));
+    assert!(
+        e.starts_with("bad.toml, line 7, column 11:") && e.contains("steps"),
+        "{e}"
+    );
     // Cant raising the inner rail (sign convention).
     let e = parse(&format!(
         "{head}[[element]]\ntype = \"transition\"\nlength_m = 80\nradius_end_m = 600\ncant_end_mm = 120\n"
@@ -316,15 +346,23 @@ fn bad_files_are_refused_at_their_line_and_column() {
     let e = parse(
         "[[element]]\ntype = \"arc\"\nlength_m = 50\nradius_m = 600\n[[element]]\ntype = \"transition\"\nshape = \"cubic-parabola\"\nlength_m = 80\nradius_end_m = 300\n",
     );
-    assert!(e.contains("line 7") && e.contains("from or to a straight"), "{e}");
+    assert!(
+        e.contains("line 7") && e.contains("from or to a straight"),
+        "{e}"
+    );
     let input = DesignInput::parse(
         Path::new("cp.toml"),
         &format!("{head}[[element]]\ntype = \"transition\"\nshape = \"cubic-parabola\"\nlength_m = 80\nradius_end_m = 50\n"),
         E0_M,
     )
     .unwrap();
-    let e = preproc::design::DesignTrack::build(&input).unwrap_err().to_string();
-    assert!(e.starts_with("cp.toml, line 4:") && e.contains("cubic parabola"), "{e}");
+    let e = preproc::design::DesignTrack::build(&input)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("cp.toml, line 4:") && e.contains("cubic parabola"),
+        "{e}"
+    );
     // A grade in a fraction.
     let e = parse(&format!(
         "{head}[[vertical]]\ntype = \"grade\"\nlength_m = 100\ngrade_permille = 0.012\n"
@@ -348,8 +386,14 @@ fn every_transition_shape_builds() {
         let d = preproc::design::DesignTrack::build(&input).unwrap();
         for s in [130.0, 230.0] {
             let p = d.at(s);
-            assert!((p.curvature_1_m * -600.0 - 1.0).abs() < 1e-12, "{shape} {s}");
-            assert!((p.cant_rad - (0.1_f64 / E0_M).asin()).abs() < 1e-12, "{shape} {s}");
+            assert!(
+                (p.curvature_1_m * -600.0 - 1.0).abs() < 1e-12,
+                "{shape} {s}"
+            );
+            assert!(
+                (p.cant_rad - (0.1_f64 / E0_M).asin()).abs() < 1e-12,
+                "{shape} {s}"
+            );
         }
         // Symmetric: the track ends heading back along +X turned by the arc
         // and both transitions (−(100 + 80)/600 rad for every shape whose
@@ -420,10 +464,16 @@ fn the_cant_scheme_defaults_to_pchip_and_keeps_a_ramp_within_its_values() {
         (before, peak, tables)
     };
     let (before, peak, _) = cant_mm(Scheme::Cubic);
-    assert!(before < -4.5 && (peak - 124.3).abs() < 0.05, "cubic: {before} {peak}");
+    assert!(
+        before < -4.5 && (peak - 124.3).abs() < 0.05,
+        "cubic: {before} {peak}"
+    );
     assert_eq!(BuildConfig::default().cant_scheme, Scheme::Pchip);
     let (before, peak, tables) = cant_mm(BuildConfig::default().cant_scheme);
-    assert!(before >= -1e-9 && peak <= 120.0 + 1e-9, "pchip: {before} {peak}");
+    assert!(
+        before >= -1e-9 && peak <= 120.0 + 1e-9,
+        "pchip: {before} {peak}"
+    );
     assert_eq!(tables.meta.cant_scheme, "pchip");
     assert_eq!(tables.meta.scheme, "cubic");
 }

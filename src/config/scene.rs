@@ -643,12 +643,12 @@ impl LoadedScene {
             &t.cant,
             &t.irregularities,
         ]
-            .into_iter()
-            .flatten()
-            .chain(std::iter::once(&t.rail_profile))
-            .chain(s.contact.imported_table.iter())
-            .map(|p| self.path(p))
-            .collect();
+        .into_iter()
+        .flatten()
+        .chain(std::iter::once(&t.rail_profile))
+        .chain(s.contact.imported_table.iter())
+        .map(|p| self.path(p))
+        .collect();
         let vehicle = self.path(&s.vehicle.file);
         if let Ok(v) = super::vehicle::VehicleFile::load(&vehicle) {
             out.extend(v.wheelsets.iter().map(|w| v.profile_path(w)));

@@ -30,7 +30,10 @@ pub enum PlanShape {
     /// κ = κ₀ + Δκ·f(σ/L).
     Transition(Ramp),
     /// A cubic parabola from (`entry`) or to a straight.
-    CubicParabola { parabola: CubicParabola, entry: bool },
+    CubicParabola {
+        parabola: CubicParabola,
+        entry: bool,
+    },
 }
 
 /// The plan at one σ of an element.
@@ -270,7 +273,10 @@ mod tests {
                 y += sign * s.powf(q) / (q * fact * f64::from(n2 + 1) * (2.0 * a2).powi(n2 + 1));
             }
             let pt = e.at(s);
-            assert!((pt.x_m - x).abs() < 1e-9 && (pt.y_m - y).abs() < 1e-9, "{s}: {pt:?} {x} {y}");
+            assert!(
+                (pt.x_m - x).abs() < 1e-9 && (pt.y_m - y).abs() < 1e-9,
+                "{s}: {pt:?} {x} {y}"
+            );
         }
     }
 
@@ -280,7 +286,10 @@ mod tests {
     fn cubic_parabola_exit_mirrors_the_entry() {
         let p = CubicParabola::new(80.0, 1.0 / 600.0).unwrap();
         let entry = PlanElement::new(
-            PlanShape::CubicParabola { parabola: p, entry: true },
+            PlanShape::CubicParabola {
+                parabola: p,
+                entry: true,
+            },
             80.0,
             0.0,
             1.0 / 600.0,
@@ -288,7 +297,10 @@ mod tests {
             0.0,
         );
         let exit = PlanElement::new(
-            PlanShape::CubicParabola { parabola: p, entry: false },
+            PlanShape::CubicParabola {
+                parabola: p,
+                entry: false,
+            },
             80.0,
             1.0 / 600.0,
             0.0,

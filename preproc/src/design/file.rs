@@ -1,4 +1,4 @@
-//! The design file (TOML; docs/reference/02-inputs.md §2.6): the track as a
+//! The design file (TOML; docs/reference/02-inputs.md §2.9): the track as a
 //! list of plan elements with their lengths, radii and cant at the ends,
 //! and an optional vertical profile — parsed, and checked against the
 //! continuity rules and the plausibility bounds of [`crate::bounds`].
@@ -155,11 +155,7 @@ fn line_column(text: &str, offset: usize) -> (usize, usize) {
     }
     let before = &text[..offset];
     let line = before.matches('\n').count() + 1;
-    let column = before
-        .rsplit('\n')
-        .next()
-        .map_or(0, |l| l.chars().count())
-        + 1;
+    let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
     (line, column)
 }
 
@@ -270,7 +266,12 @@ fn length(err: &Errors, v: &Spanned<f64>, what: &str) -> Result<f64, InputError>
 }
 
 /// Signed curvature of a radius key (1/m): `inf` for a straight.
-fn curvature(err: &Errors, v: &Spanned<f64>, key: &str, infinite_ok: bool) -> Result<f64, InputError> {
+fn curvature(
+    err: &Errors,
+    v: &Spanned<f64>,
+    key: &str,
+    infinite_ok: bool,
+) -> Result<f64, InputError> {
     let r = *v.get_ref();
     if r.is_infinite() && infinite_ok {
         return Ok(0.0);
@@ -310,7 +311,8 @@ fn cant_value(
                     "below the {MIN_PEAK_CANT_MM} mm of any real cant: these are metres in a millimetre key (check the unit: write 120 for 120 mm)"
                 ));
             }
-            if v.abs() * 1e-3 >= cant_base_m || (v * 1e-3 / cant_base_m).asin().abs() > MAX_CANT_RAD {
+            if v.abs() * 1e-3 >= cant_base_m || (v * 1e-3 / cant_base_m).asin().abs() > MAX_CANT_RAD
+            {
                 return bad(format!(
                     "beyond the ±{MAX_CANT_RAD:.4} rad of any track ({MAX_CANT_ON_STANDARD_BASE_MM} mm on the standard cant base 1.5 m; EN 13803 allows 180 mm) on the cant base {cant_base_m} m (check the unit: mm)"
                 ));
@@ -382,12 +384,17 @@ fn element(
         other => {
             return Err(err.at(
                 r.kind.span(),
-                format!("type = \"{other}\": an element is \"straight\", \"arc\" or \"transition\""),
+                format!(
+                    "type = \"{other}\": an element is \"straight\", \"arc\" or \"transition\""
+                ),
             ));
         }
     };
     if let (Some(s), false) = (&r.shape, matches!(kind, ElementKind::Transition(_))) {
-        return Err(err.at(s.span(), format!("shape belongs to transitions, not to a {kind_name}")));
+        return Err(err.at(
+            s.span(),
+            format!("shape belongs to transitions, not to a {kind_name}"),
+        ));
     }
     let length_m = length(err, &r.length_m, kind_name)?;
     let prev_kappa = prev.map(|p| p.kappa_end_1_m);
@@ -449,7 +456,8 @@ fn element(
                 ),
             ));
         }
-        if shape == TransitionShape::CubicParabola && kappa_start_1_m != 0.0 && kappa_end_1_m != 0.0 {
+        if shape == TransitionShape::CubicParabola && kappa_start_1_m != 0.0 && kappa_end_1_m != 0.0
+        {
             return Err(err.at(
                 r.shape.as_ref().map_or(span.clone(), Spanned::span),
                 "a cubic parabola runs from or to a straight (radius inf at one end); between two arcs use a clothoid, bloss or cosine transition",
@@ -458,7 +466,13 @@ fn element(
     }
 
     // Cant.
-    let constant = cant_value(err, &r.cant_mm, &r.cant_rad, ("cant_mm", "cant_rad"), cant_base_m)?;
+    let constant = cant_value(
+        err,
+        &r.cant_mm,
+        &r.cant_rad,
+        ("cant_mm", "cant_rad"),
+        cant_base_m,
+    )?;
     let start = cant_value(
         err,
         &r.cant_start_mm,
@@ -549,7 +563,9 @@ fn element(
     ] {
         let phi = CantRamp::angle_of(unit, v);
         if k * phi > 0.0 {
-            let at = stated_end.or(stated_start).map_or(span.clone(), |c| c.span.clone());
+            let at = stated_end
+                .or(stated_start)
+                .map_or(span.clone(), |c| c.span.clone());
             return Err(err.at(
                 at,
                 format!(
@@ -609,7 +625,10 @@ fn vertical(
         let (grade_start, grade_end) = match r.kind.get_ref().as_str() {
             "grade" => {
                 if let Some(g) = &r.grade_end_permille {
-                    return Err(err.at(g.span(), "grade_end_permille belongs to a vertical curve (type = \"curve\")"));
+                    return Err(err.at(
+                        g.span(),
+                        "grade_end_permille belongs to a vertical curve (type = \"curve\")",
+                    ));
                 }
                 let g = match &r.grade_permille {
                     Some(g) => {
@@ -636,9 +655,10 @@ fn vertical(
                 if let Some(g) = &r.grade_permille {
                     return Err(err.at(g.span(), "a vertical curve starts with the previous grade and gives grade_end_permille"));
                 }
-                let end = r.grade_end_permille.as_ref().ok_or_else(|| {
-                    err.at(v.span(), "a vertical curve needs grade_end_permille")
-                })?;
+                let end = r
+                    .grade_end_permille
+                    .as_ref()
+                    .ok_or_else(|| err.at(v.span(), "a vertical curve needs grade_end_permille"))?;
                 (prev.unwrap_or(0.0), grade(err, end, "grade_end_permille")?)
             }
             other => {

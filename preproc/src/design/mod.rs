@@ -1,5 +1,5 @@
 //! Track from design elements (docs/reference/03-track-preproc.md §3h;
-//! file format docs/reference/02-inputs.md §2.6): straights, circular
+//! file format docs/reference/02-inputs.md §2.9): straights, circular
 //! arcs and transition curves (clothoid, cubic parabola, Bloss, cosine)
 //! with cant ramps, grades and parabolic vertical curves, each with its
 //! length and its radius and cant at the ends. Curvature, heading, cant,

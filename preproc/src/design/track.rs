@@ -99,7 +99,11 @@ impl DesignTrack {
                 ElementKind::Transition(TransitionShape::Ramp(r)) => PlanShape::Transition(r),
                 ElementKind::Transition(TransitionShape::CubicParabola) => {
                     let entry = e.kappa_start_1_m == 0.0;
-                    let k = if entry { e.kappa_end_1_m } else { e.kappa_start_1_m };
+                    let k = if entry {
+                        e.kappa_end_1_m
+                    } else {
+                        e.kappa_start_1_m
+                    };
                     let parabola = CubicParabola::new(e.length_m, k.abs()).ok_or_else(|| {
                         InputError::new(
                             &input.path,

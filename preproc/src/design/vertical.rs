@@ -152,7 +152,10 @@ mod tests {
         let f = |t: f64| (1.0 + e.at(t).grade.powi(2)).sqrt();
         let simpson: f64 = (0..n)
             .map(|i| {
-                let (a, b) = (200.0 * i as f64 / n as f64, 200.0 * (i + 1) as f64 / n as f64);
+                let (a, b) = (
+                    200.0 * i as f64 / n as f64,
+                    200.0 * (i + 1) as f64 / n as f64,
+                );
                 (b - a) / 6.0 * (f(a) + 4.0 * f(0.5 * (a + b)) + f(b))
             })
             .sum();
