@@ -58,6 +58,12 @@ pub const MAX_GRADE_PERMILLE: f64 = 150.0;
 /// grade is a fraction (0.012) written into a permille key.
 pub const MIN_NONZERO_GRADE_PERMILLE: f64 = 0.1;
 
+/// Longest design track, and longest element of one (m): 10⁷ m, more than
+/// the longest railway line (the Trans-Siberian, 9289 km); a length beyond
+/// it is a unit error (mm for m). It also bounds the work of placing the
+/// elements (one quadrature panel per 5 m: at most 2 × 10⁶ panels).
+pub const MAX_DESIGN_LENGTH_M: f64 = 1e7;
+
 /// Track gauge range (m): from below the narrowest public railways
 /// (597 mm Ffestiniog, 600 mm Decauville) to above the broadest in service
 /// (1676 mm Indian broad gauge). A gauge of 1435 is millimetres.

@@ -55,7 +55,10 @@ pub struct CantPeak {
 #[derive(Debug, Clone)]
 enum Geometry {
     /// A spline through control points, with a splined cant.
-    Fitted { curve: SpaceCurve, cant: Cant },
+    Fitted {
+        curve: Box<SpaceCurve>,
+        cant: Box<Cant>,
+    },
     /// Design elements, evaluated in closed form.
     Design(Box<DesignTrack>),
 }
@@ -124,7 +127,10 @@ impl Centerline {
             (Cant::Zero, None)
         };
         Ok(Self {
-            geometry: Geometry::Fitted { curve, cant },
+            geometry: Geometry::Fitted {
+                curve: Box::new(curve),
+                cant: Box::new(cant),
+            },
             cant_peak,
         })
     }
@@ -173,16 +179,13 @@ impl Centerline {
     pub fn cant_at(&self, s_m: f64) -> f64 {
         match &self.geometry {
             Geometry::Design(d) => d.cant_at(s_m),
-            Geometry::Fitted {
-                cant: Cant::Zero, ..
-            } => 0.0,
-            Geometry::Fitted {
-                cant: Cant::Spline { spline, s_max },
-                ..
-            } => {
-                let (lo, _) = spline.domain();
-                spline.value(s_m.clamp(lo, *s_max))
-            }
+            Geometry::Fitted { cant, .. } => match cant.as_ref() {
+                Cant::Zero => 0.0,
+                Cant::Spline { spline, s_max } => {
+                    let (lo, _) = spline.domain();
+                    spline.value(s_m.clamp(lo, *s_max))
+                }
+            },
         }
     }
 

@@ -86,9 +86,9 @@ pub struct DesignInputs {
 #[derive(Debug, Clone)]
 pub enum Inputs {
     /// Control points (and a cant table).
-    ControlPoints(TrackInputs),
+    ControlPoints(Box<TrackInputs>),
     /// Design elements (docs/reference/03-track-preproc.md §3h).
-    Design(DesignInputs),
+    Design(Box<DesignInputs>),
 }
 
 /// The track as continuous curves.

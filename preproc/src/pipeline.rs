@@ -86,7 +86,7 @@ pub fn read_inputs(req: &BuildRequest) -> Result<(Inputs, Vec<InputFile>), Build
         })
     };
     enum Geometry {
-        ControlPoints(CenterlineInput, Option<CantInput>),
+        ControlPoints(Box<(CenterlineInput, Option<CantInput>)>),
         Design(DesignInput),
     }
     let geometry = match &req.geometry {
@@ -103,7 +103,7 @@ pub fn read_inputs(req: &BuildRequest) -> Result<(Inputs, Vec<InputFile>), Build
                 }
                 None => None,
             };
-            Geometry::ControlPoints(parsed, cant)
+            Geometry::ControlPoints(Box::new((parsed, cant)))
         }
         GeometryFiles::Design(p) => {
             let text = read_text(p)?;
@@ -122,15 +122,18 @@ pub fn read_inputs(req: &BuildRequest) -> Result<(Inputs, Vec<InputFile>), Build
         None => None,
     };
     let inputs = match geometry {
-        Geometry::ControlPoints(centerline, cant) => Inputs::ControlPoints(TrackInputs {
-            centerline,
-            cant,
-            irregularities,
-        }),
-        Geometry::Design(design) => Inputs::Design(DesignInputs {
+        Geometry::ControlPoints(b) => {
+            let (centerline, cant) = *b;
+            Inputs::ControlPoints(Box::new(TrackInputs {
+                centerline,
+                cant,
+                irregularities,
+            }))
+        }
+        Geometry::Design(design) => Inputs::Design(Box::new(DesignInputs {
             design,
             irregularities,
-        }),
+        })),
     };
     Ok((inputs, files))
 }

@@ -363,6 +363,19 @@ fn bad_files_are_refused_at_their_line_and_column() {
         e.starts_with("cp.toml, line 4:") && e.contains("cubic parabola"),
         "{e}"
     );
+    // A length in mm, one element or all of them beyond 10⁷ m.
+    let e = parse("[[element]]\ntype = \"straight\"\nlength_m = 2e7\n");
+    assert!(
+        e.starts_with("bad.toml, line 3, column 12:") && e.contains("check the unit"),
+        "{e}"
+    );
+    let e = parse(
+        "[[element]]\ntype = \"straight\"\nlength_m = 6e6\n[[element]]\ntype = \"straight\"\nlength_m = 6e6\n",
+    );
+    assert!(
+        e.contains("add up to") && e.contains("check the unit"),
+        "{e}"
+    );
     // A grade in a fraction.
     let e = parse(&format!(
         "{head}[[vertical]]\ntype = \"grade\"\nlength_m = 100\ngrade_permille = 0.012\n"

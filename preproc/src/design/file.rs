@@ -24,8 +24,8 @@ use toml::Spanned;
 use super::cant::{CantRamp, CantUnit};
 use super::shape::Ramp;
 use crate::bounds::{
-    MAX_CANT_ON_STANDARD_BASE_MM, MAX_CANT_RAD, MAX_COORDINATE_M, MAX_GRADE_PERMILLE,
-    MIN_CURVE_RADIUS_M, MIN_NONZERO_GRADE_PERMILLE, MIN_PEAK_CANT_MM,
+    MAX_CANT_ON_STANDARD_BASE_MM, MAX_CANT_RAD, MAX_COORDINATE_M, MAX_DESIGN_LENGTH_M,
+    MAX_GRADE_PERMILLE, MIN_CURVE_RADIUS_M, MIN_NONZERO_GRADE_PERMILLE, MIN_PEAK_CANT_MM,
 };
 use crate::centerline::COVERAGE_TOLERANCE_M;
 use crate::error::InputError;
@@ -235,6 +235,15 @@ impl DesignInput {
             elements.push(element(&err, e, prev, cant_base_m)?);
         }
         let total: f64 = elements.iter().map(|e| e.length_m).sum();
+        if total > MAX_DESIGN_LENGTH_M {
+            return Err(InputError::new(
+                path,
+                None,
+                format!(
+                    "the elements add up to {total:e} m, beyond the {MAX_DESIGN_LENGTH_M:e} m of the longest railway line (check the unit: metres)"
+                ),
+            ));
+        }
         let vertical = vertical(&err, &raw.vertical, total)?;
         Ok(Self {
             path: path.to_path_buf(),
@@ -253,13 +262,13 @@ impl DesignInput {
 
 fn length(err: &Errors, v: &Spanned<f64>, what: &str) -> Result<f64, InputError> {
     let l = *v.get_ref();
-    if l.is_finite() && l > 0.0 && l <= MAX_COORDINATE_M {
+    if l.is_finite() && l > 0.0 && l <= MAX_DESIGN_LENGTH_M {
         Ok(l)
     } else {
         Err(err.at(
             v.span(),
             format!(
-                "{what} length_m = {l} must lie in (0, {MAX_COORDINATE_M:e}] m (check the unit: metres)"
+                "{what} length_m = {l} must lie in (0, {MAX_DESIGN_LENGTH_M:e}] m, the longest railway line (check the unit: metres)"
             ),
         ))
     }
