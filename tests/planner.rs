@@ -396,8 +396,9 @@ fn the_range_table_has_the_whole_track_rows() {
     let part = build_track_range(&ls, [52.3, 131.9]).expect("range");
     let whole = preproc::build_tables(
         &preproc::BuildRequest {
-            centerline: shipped("tracks/irregular_300m/centerline.csv"),
-            cant: None,
+            geometry: preproc::GeometryFiles::centerline(shipped(
+                "tracks/irregular_300m/centerline.csv",
+            )),
             irregularities: Some(shipped("tracks/irregular_300m/irregularities.csv")),
             output: dir.join("unused.h5"),
             config: railsim::session::plan::build_config(&ls).expect("config"),

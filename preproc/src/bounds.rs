@@ -47,6 +47,23 @@ pub const MAX_COORDINATE_M: f64 = 1e8;
 /// like 0.6 m is a 600 m curve whose coordinates were written in km.
 pub const MIN_CURVE_RADIUS_M: f64 = 10.0;
 
+/// Largest |grade| of a design track (‰). Main lines are built to 35 ‰ at
+/// most (TSI INF, Regulation (EU) 1299/2014 §4.2.3.3, "maximum gradients");
+/// the steepest adhesion tramways reach about 135 ‰ (Lisbon); 150 ‰ is
+/// beyond any adhesion railway, and a grade of 0.012 meant as 12 ‰ is
+/// caught by [`MIN_NONZERO_GRADE_PERMILLE`].
+pub const MAX_GRADE_PERMILLE: f64 = 150.0;
+/// Smallest |grade| other than 0 of a design track (‰): 0.1 ‰ is 1 cm in
+/// 100 m, below the accuracy of a track's vertical alignment; a smaller
+/// grade is a fraction (0.012) written into a permille key.
+pub const MIN_NONZERO_GRADE_PERMILLE: f64 = 0.1;
+
+/// Longest design track, and longest element of one (m): 10⁷ m, more than
+/// the longest railway line (the Trans-Siberian, 9289 km); a length beyond
+/// it is a unit error (mm for m). It also bounds the work of placing the
+/// elements (one quadrature panel per 5 m: at most 2 × 10⁶ panels).
+pub const MAX_DESIGN_LENGTH_M: f64 = 1e7;
+
 /// Track gauge range (m): from below the narrowest public railways
 /// (597 mm Ffestiniog, 600 mm Decauville) to above the broadest in service
 /// (1676 mm Indian broad gauge). A gauge of 1435 is millimetres.

@@ -43,7 +43,7 @@ fn check_cant(
     }
     let input = match peak {
         Some(p) => format!(
-            "the input's largest cant is {:.4} rad ({}, line {}), within the bound: the {scheme} spline overshoots it by {:.4} rad between the control points. Use --scheme pchip (shape-preserving, no overshoot), or add control points along the cant ramps",
+            "the input's largest cant is {:.4} rad ({}, line {}), within the bound: the {scheme} spline overshoots it by {:.4} rad between the control points. Use --cant-scheme pchip (the default; shape-preserving, no overshoot), or add control points along the cant ramps",
             p.cant_rad,
             p.path.display(),
             p.line,
@@ -274,7 +274,7 @@ mod tests {
             e.contains("reaches +0.1400 rad (+209.3 mm) at s = 10.000 m")
                 && e.contains("cant.csv, line 7")
                 && e.contains("overshoots it by 0.0100 rad")
-                && e.contains("--scheme pchip"),
+                && e.contains("--cant-scheme pchip"),
             "{e}"
         );
         rows[100].cant_rad = 0.0;

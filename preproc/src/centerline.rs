@@ -1,7 +1,9 @@
 //! The track centreline (paper §2a–c, docs/reference/03-track-preproc.md §3a–c): a [`SpaceCurve`] through
 //! the control points, the cant φ(s) splined against the control points'
-//! track distance (or a separate cant table), and the track frame of
-//! docs/reference/03-track-preproc.md §3c at every s.
+//! track distance (or a separate cant table) with its own scheme, and the
+//! track frame of docs/reference/03-track-preproc.md §3c at every s — or a
+//! track from design elements ([`crate::design`], §3h), whose position,
+//! derivatives and cant are the element formulas'.
 
 use std::path::{Path, PathBuf};
 
@@ -9,6 +11,7 @@ use runtime::geometry::spline::{PiecewiseCubic, Scheme, SplineError};
 use runtime::geometry::track::Frame;
 
 use crate::bounds::MIN_CURVE_RADIUS_M;
+use crate::design::DesignTrack;
 use crate::error::{BuildError, InputError};
 use crate::inputs::{CantInput, CenterlineInput};
 use crate::space_curve::{CurveError, CurvePoint, SpaceCurve};
@@ -48,25 +51,38 @@ pub struct CantPeak {
     pub line: usize,
 }
 
-/// The fitted centreline.
+/// Where the centreline's geometry comes from.
+#[derive(Debug, Clone)]
+enum Geometry {
+    /// A spline through control points, with a splined cant.
+    Fitted {
+        curve: Box<SpaceCurve>,
+        cant: Box<Cant>,
+    },
+    /// Design elements, evaluated in closed form.
+    Design(Box<DesignTrack>),
+}
+
+/// The centreline: fitted through control points, or from design elements.
 #[derive(Debug, Clone)]
 pub struct Centerline {
-    curve: SpaceCurve,
-    cant: Cant,
+    geometry: Geometry,
     cant_peak: Option<CantPeak>,
 }
 
 impl Centerline {
     /// Fit the centreline of `input`; the cant comes from `cant_table` when
     /// given (it overrides a cant column of the centreline file), else from
-    /// the centreline's own cant column, else zero. Cant uses the same scheme
-    /// as the centreline (use `pchip` for cant ramps without overshoot).
-    /// The fitted curve's radius must nowhere be below
-    /// [`MIN_CURVE_RADIUS_M`].
+    /// the centreline's own cant column, else zero. The cant is splined
+    /// with `cant_scheme` (default `pchip`, shape-preserving: no overshoot
+    /// of a cant ramp, docs/reference/03-track-preproc.md §3c), the
+    /// centreline with `scheme`. The fitted curve's radius must nowhere be
+    /// below [`MIN_CURVE_RADIUS_M`].
     pub fn build(
         input: &CenterlineInput,
         cant_table: Option<&CantInput>,
         scheme: Scheme,
+        cant_scheme: Scheme,
         cant_base_m: f64,
     ) -> Result<Self, BuildError> {
         let curve = SpaceCurve::fit(scheme, &input.points).map_err(|e| curve_error(input, e))?;
@@ -86,14 +102,20 @@ impl Centerline {
             }
             let phi = table.cant.radians(cant_base_m)?;
             (
-                spline_cant(scheme, &table.s_m, &phi, &table.path, table.cant.lines())?,
+                spline_cant(
+                    cant_scheme,
+                    &table.s_m,
+                    &phi,
+                    &table.path,
+                    table.cant.lines(),
+                )?,
                 cant_peak(&phi, table.cant.lines(), &table.path),
             )
         } else if let Some(col) = &input.cant {
             let phi = col.radians(cant_base_m)?;
             (
                 spline_cant(
-                    scheme,
+                    cant_scheme,
                     curve.knot_arc_lengths(),
                     &phi,
                     &input.path,
@@ -105,10 +127,29 @@ impl Centerline {
             (Cant::Zero, None)
         };
         Ok(Self {
-            curve,
-            cant,
+            geometry: Geometry::Fitted {
+                curve: Box::new(curve),
+                cant: Box::new(cant),
+            },
             cant_peak,
         })
+    }
+
+    /// The centreline of a design track: positions, derivatives and cant
+    /// are the element formulas' (docs/reference/03-track-preproc.md §3h).
+    pub fn from_design(track: DesignTrack) -> Self {
+        Self {
+            geometry: Geometry::Design(Box::new(track)),
+            cant_peak: None,
+        }
+    }
+
+    /// The design track, if the centreline is one.
+    pub fn design(&self) -> Option<&DesignTrack> {
+        match &self.geometry {
+            Geometry::Design(d) => Some(d),
+            Geometry::Fitted { .. } => None,
+        }
     }
 
     /// The largest |cant| of the input, if it has a cant.
@@ -118,34 +159,61 @@ impl Centerline {
 
     /// Length of the centreline (m).
     pub fn length_m(&self) -> f64 {
-        self.curve.length()
+        match &self.geometry {
+            Geometry::Fitted { curve, .. } => curve.length(),
+            Geometry::Design(d) => d.length_m(),
+        }
     }
 
-    /// Track distance of each control point (m).
+    /// Track distance of each control point (m); of a design track, of
+    /// each element joint.
     pub fn control_point_s(&self) -> &[f64] {
-        self.curve.knot_arc_lengths()
+        match &self.geometry {
+            Geometry::Fitted { curve, .. } => curve.knot_arc_lengths(),
+            Geometry::Design(d) => d.joints_s_m(),
+        }
     }
 
     /// Cant φ(s) (rad); the table is held constant beyond its ends (within
     /// the coverage tolerance).
     pub fn cant_at(&self, s_m: f64) -> f64 {
-        match &self.cant {
-            Cant::Zero => 0.0,
-            Cant::Spline { spline, s_max } => {
-                let (lo, _) = spline.domain();
-                spline.value(s_m.clamp(lo, *s_max))
-            }
+        match &self.geometry {
+            Geometry::Design(d) => d.cant_at(s_m),
+            Geometry::Fitted { cant, .. } => match cant.as_ref() {
+                Cant::Zero => 0.0,
+                Cant::Spline { spline, s_max } => {
+                    let (lo, _) = spline.domain();
+                    spline.value(s_m.clamp(lo, *s_max))
+                }
+            },
         }
     }
 
     /// The centreline at the increasing track distances `s`.
     pub fn sample(&self, s: &[f64]) -> Result<Vec<CenterlineSample>, BuildError> {
-        self.curve
-            .at_arc_lengths(s)
+        let points: Vec<(CurvePoint, f64)> = match &self.geometry {
+            Geometry::Fitted { curve, .. } => curve
+                .at_arc_lengths(s)
+                .into_iter()
+                .map(|p| (p, f64::NAN))
+                .collect(),
+            Geometry::Design(d) => s
+                .iter()
+                .map(|&s_m| {
+                    let p = d.at(s_m);
+                    (p.curve_point(), p.cant_rad)
+                })
+                .collect(),
+        };
+        points
             .into_iter()
             .zip(s)
-            .map(|(point, &s_m)| {
-                let cant_rad = self.cant_at(s_m);
+            .map(|((point, design_cant), &s_m)| {
+                let cant_rad = if design_cant.is_nan() {
+                    self.cant_at(s_m)
+                } else {
+                    design_cant
+                };
                 let frame = Frame::from_tangent(point.d1, cant_rad).ok_or_else(|| {
                     BuildError::Geometry(format!(
                         "the centreline is vertical at s = {s_m:.3} m: no lateral direction"

@@ -14,7 +14,9 @@ use runtime::forces::hertz::Material;
 
 use crate::config::{BuildConfig, Inclination, RailSpacing};
 use crate::contact_table::{ContactTableConfig, TableSupport};
-use crate::pipeline::{BuildRequest, ContactTableRequest, run_build, run_contact_table};
+use crate::pipeline::{
+    BuildRequest, ContactTableRequest, GeometryFiles, run_build, run_contact_table,
+};
 use crate::progress::{Progress, ProgressSink};
 
 /// Offline track pre-processor: CSV control points → per-rail HDF5 databases.
@@ -213,18 +215,27 @@ pub struct ContactTableArgs {
 #[derive(Debug, Args)]
 pub struct BuildArgs {
     /// Centreline control points: CSV with x, y, z (m) and optionally cant (rad) or cant_mm.
-    #[arg(long, value_name = "FILE")]
-    pub centerline: PathBuf,
+    #[arg(long, value_name = "FILE", required_unless_present = "design")]
+    pub centerline: Option<PathBuf>,
     /// Cant table (overrides the centreline's cant): CSV with s and cant (rad) or cant_mm.
-    #[arg(long, value_name = "FILE")]
+    #[arg(long, value_name = "FILE", conflicts_with = "design")]
     pub cant: Option<PathBuf>,
+    /// Track from design elements (TOML: straights, arcs, transitions,
+    /// cant ramps, grades; docs/reference/02-inputs.md §2.9), instead of
+    /// --centerline/--cant.
+    #[arg(long, value_name = "FILE", conflicts_with = "centerline")]
+    pub design: Option<PathBuf>,
     /// Irregularities: CSV s, align_left, align_right, level_left, level_right (m)
     /// or s, alignment, gauge, level, cross_level; `_mm` suffix allowed.
     #[arg(long, value_name = "FILE")]
     pub irregularities: Option<PathBuf>,
-    /// Spline scheme for centreline, cant and rails.
+    /// Spline scheme for the centreline and the rails.
     #[arg(long, default_value = "cubic", value_parser = ["cubic", "cubic-natural", "akima", "pchip"])]
     pub scheme: String,
+    /// Spline scheme for the cant of control-point inputs (pchip: shape-preserving,
+    /// no overshoot of a cant ramp).
+    #[arg(long, default_value = "pchip", value_parser = ["cubic", "cubic-natural", "akima", "pchip"])]
+    pub cant_scheme: String,
     /// Table step Δs (m).
     #[arg(long, default_value_t = crate::config::DEFAULT_STEP_M, value_name = "M")]
     pub step: f64,
@@ -267,6 +278,7 @@ impl BuildArgs {
         }
         let config = BuildConfig {
             scheme,
+            cant_scheme: self.cant_scheme.parse()?,
             step_m: self.step,
             gauge_m: self.gauge,
             rail_spacing: match self.rail_spacing {
@@ -289,8 +301,14 @@ impl BuildArgs {
         };
         Ok(BuildRequest {
             contact,
-            centerline: self.centerline.clone(),
-            cant: self.cant.clone(),
+            geometry: match (&self.design, &self.centerline) {
+                (Some(d), None) => GeometryFiles::Design(d.clone()),
+                (None, Some(c)) => GeometryFiles::ControlPoints {
+                    centerline: c.clone(),
+                    cant: self.cant.clone(),
+                },
+                _ => anyhow::bail!("give either --centerline (with --cant) or --design"),
+            },
             irregularities: self.irregularities.clone(),
             output: self.output.clone(),
             config,
@@ -365,11 +383,12 @@ pub fn run(cli: Cli) -> Result<()> {
             let req = args.to_request(command_line())?;
             // Before the work: no output replaces an input, every output
             // location can be written (`runtime::io::outputs`).
-            let mut inputs: Vec<PathBuf> = [&req.centerline]
+            let mut inputs: Vec<PathBuf> = req
+                .geometry
+                .paths()
                 .into_iter()
-                .chain(req.cant.iter())
-                .chain(req.irregularities.iter())
-                .cloned()
+                .chain(req.irregularities.iter().map(PathBuf::as_path))
+                .map(Path::to_path_buf)
                 .collect();
             if let Some(c) = &req.contact {
                 inputs.extend(

@@ -34,6 +34,12 @@ pub const CANT_BASE_OVER_GAUGE_M: f64 = 0.065;
 /// (`runtime::geometry::profile::rail_cant`; docs/reference/05-surfaces.md §5.7).
 pub const DEFAULT_RAIL_INCLINATION: &str = "1:40";
 
+/// The default spline scheme of the cant: `pchip` (Fritsch–Carlson),
+/// shape-preserving, so a cant ramp written as a few control points stays
+/// within its end values — the not-a-knot cubic rings on a ramp (−5.8 mm
+/// before a 0 → 120 mm ramp and a 124.3 mm peak; preproc/tests/design_track.rs).
+pub const DEFAULT_CANT_SCHEME: Scheme = Scheme::Pchip;
+
 /// How far apart the two rail space curves (the rails' profile origins) are.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum RailSpacing {
@@ -111,8 +117,12 @@ impl FromStr for Inclination {
 /// Options of a track build.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BuildConfig {
-    /// Spline scheme for the centreline, the cant and the rails (docs/reference/03-track-preproc.md §3a, f).
+    /// Spline scheme for the centreline and the rails (docs/reference/03-track-preproc.md §3a, f).
     pub scheme: Scheme,
+    /// Spline scheme for the cant of control-point inputs
+    /// (docs/reference/03-track-preproc.md §3c): default
+    /// [`DEFAULT_CANT_SCHEME`].
+    pub cant_scheme: Scheme,
     /// Table step Δs (m).
     pub step_m: f64,
     /// Nominal track gauge (m).
@@ -136,6 +146,7 @@ impl Default for BuildConfig {
     fn default() -> Self {
         Self {
             scheme: Scheme::Cubic,
+            cant_scheme: DEFAULT_CANT_SCHEME,
             step_m: DEFAULT_STEP_M,
             gauge_m: DEFAULT_GAUGE_M,
             rail_spacing: RailSpacing::default(),

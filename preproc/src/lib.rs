@@ -11,7 +11,7 @@
 //! # Example: a 300 m arc of radius 600 m, built to a table file
 //!
 //! ```
-//! use preproc::{BuildConfig, BuildRequest, NoProgress, run_build};
+//! use preproc::{BuildConfig, BuildRequest, GeometryFiles, NoProgress, run_build};
 //!
 //! let dir = std::env::temp_dir().join(format!("preproc-doc-{}", std::process::id()));
 //! std::fs::create_dir_all(&dir)?;
@@ -26,8 +26,7 @@
 //! std::fs::write(dir.join("centerline.csv"), csv)?;
 //! let summary = run_build(
 //!     &BuildRequest {
-//!         centerline: dir.join("centerline.csv"),
-//!         cant: None,
+//!         geometry: GeometryFiles::centerline(dir.join("centerline.csv")),
 //!         irregularities: None,
 //!         output: dir.join("track.h5"),
 //!         config: BuildConfig::default(),
@@ -55,6 +54,7 @@ pub mod conicity;
 pub mod contact_plots;
 pub mod contact_table;
 pub mod csv;
+pub mod design;
 pub mod error;
 pub mod inputs;
 pub mod irregularity;
@@ -69,9 +69,9 @@ pub mod summary;
 
 pub use config::{BuildConfig, Inclination, RailSpacing};
 pub use error::{BuildError, InputError};
-pub use model::{TrackInputs, TrackModel};
+pub use model::{DesignInputs, Inputs, TrackInputs, TrackModel};
 pub use pipeline::{
-    BuildRequest, ContactTableReport, ContactTableRequest, build_tables, run_build,
+    BuildRequest, ContactTableReport, ContactTableRequest, GeometryFiles, build_tables, run_build,
     run_contact_table,
 };
 pub use progress::{NoProgress, Progress, ProgressSink};

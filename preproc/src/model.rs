@@ -8,11 +8,16 @@ use runtime::geometry::track::{
 
 use crate::centerline::Centerline;
 use crate::config::BuildConfig;
+use crate::design::{DesignInput, DesignTrack};
 use crate::error::BuildError;
 use crate::inputs::{CantInput, CenterlineInput, IrregularityInput};
 use crate::irregularity::Irregularities;
 use crate::progress::{Progress, ProgressSink};
 use crate::rails::{Rail, node_spacing_m};
+
+/// The `cant_scheme` a table file records for a track from design
+/// elements: the cant is the elements' formulas, not a spline.
+pub const DESIGN_CANT_SCHEME: &str = "design";
 
 /// Rows computed per parallel task.
 const CHUNK_ROWS: usize = 1 << 15;
@@ -70,6 +75,22 @@ pub struct TrackInputs {
     pub irregularities: Option<IrregularityInput>,
 }
 
+/// The parsed inputs of a build from a design file.
+#[derive(Debug, Clone)]
+pub struct DesignInputs {
+    pub design: DesignInput,
+    pub irregularities: Option<IrregularityInput>,
+}
+
+/// The parsed inputs of either kind of build.
+#[derive(Debug, Clone)]
+pub enum Inputs {
+    /// Control points (and a cant table).
+    ControlPoints(Box<TrackInputs>),
+    /// Design elements (docs/reference/03-track-preproc.md §3h).
+    Design(Box<DesignInputs>),
+}
+
 /// The track as continuous curves.
 #[derive(Debug, Clone)]
 pub struct TrackModel {
@@ -88,11 +109,36 @@ impl TrackModel {
             &inputs.centerline,
             inputs.cant.as_ref(),
             config.scheme,
+            config.cant_scheme,
             config.cant_base_m(),
         )?;
-        let irregularities = inputs
-            .irregularities
-            .as_ref()
+        Self::around(centerline, inputs.irregularities.as_ref(), config)
+    }
+
+    /// The track of a design file (docs/reference/03-track-preproc.md
+    /// §3h): the centreline from the element formulas, the rails built
+    /// around it as for control points.
+    pub fn build_design(inputs: &DesignInputs, config: &BuildConfig) -> Result<Self, BuildError> {
+        config.validate()?;
+        let centerline = Centerline::from_design(DesignTrack::build(&inputs.design)?);
+        Self::around(centerline, inputs.irregularities.as_ref(), config)
+    }
+
+    /// Either kind of build.
+    pub fn from_inputs(inputs: &Inputs, config: &BuildConfig) -> Result<Self, BuildError> {
+        match inputs {
+            Inputs::ControlPoints(i) => Self::build(i, config),
+            Inputs::Design(i) => Self::build_design(i, config),
+        }
+    }
+
+    /// Irregularities and rails around a centreline.
+    fn around(
+        centerline: Centerline,
+        irregularities: Option<&IrregularityInput>,
+        config: &BuildConfig,
+    ) -> Result<Self, BuildError> {
+        let irregularities = irregularities
             .map(|i| Irregularities::build(i, centerline.length_m(), config.step_m))
             .transpose()?;
         let spacing = node_spacing_m(&centerline, irregularities.as_ref());
@@ -186,7 +232,7 @@ impl TrackModel {
         crate::built::check_tables(
             tables,
             self.centerline.cant_peak(),
-            self.config.scheme.name(),
+            self.config.cant_scheme.name(),
         )
     }
 
@@ -304,6 +350,10 @@ impl TrackModel {
         let c = &self.config;
         TrackMeta {
             scheme: c.scheme.name().to_string(),
+            cant_scheme: match self.centerline.design() {
+                Some(_) => DESIGN_CANT_SCHEME.to_string(),
+                None => c.cant_scheme.name().to_string(),
+            },
             step_m: c.step_m,
             gauge_m: c.gauge_m,
             rail_spacing_m: c.rail_spacing_m(),

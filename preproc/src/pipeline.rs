@@ -12,17 +12,50 @@ use runtime::io::schema;
 use crate::config::BuildConfig;
 use crate::contact_table::{ContactTableConfig, build_contact_table, conicity_of};
 use crate::csv::read_text;
+use crate::design::DesignInput;
 use crate::error::BuildError;
 use crate::inputs::{CantInput, CenterlineInput, IrregularityInput};
-use crate::model::{TrackInputs, TrackModel};
+use crate::model::{DesignInputs, Inputs, TrackInputs, TrackModel};
 use crate::progress::{Progress, ProgressSink};
 use crate::summary::{BuildSummary, ContactTableSummary};
+
+/// The files that give a track's geometry.
+#[derive(Debug, Clone, PartialEq)]
+pub enum GeometryFiles {
+    /// Centreline control points (CSV), with an optional cant table (CSV).
+    ControlPoints {
+        centerline: PathBuf,
+        cant: Option<PathBuf>,
+    },
+    /// A design file (TOML; docs/reference/02-inputs.md §2.9).
+    Design(PathBuf),
+}
+
+impl GeometryFiles {
+    /// Control points without a cant table.
+    pub fn centerline(path: impl Into<PathBuf>) -> Self {
+        GeometryFiles::ControlPoints {
+            centerline: path.into(),
+            cant: None,
+        }
+    }
+
+    /// Every file, in the order read.
+    pub fn paths(&self) -> Vec<&Path> {
+        match self {
+            GeometryFiles::ControlPoints { centerline, cant } => std::iter::once(centerline)
+                .chain(cant.iter())
+                .map(PathBuf::as_path)
+                .collect(),
+            GeometryFiles::Design(p) => vec![p.as_path()],
+        }
+    }
+}
 
 /// Everything a build needs.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BuildRequest {
-    pub centerline: PathBuf,
-    pub cant: Option<PathBuf>,
+    pub geometry: GeometryFiles,
     pub irregularities: Option<PathBuf>,
     pub output: PathBuf,
     pub config: BuildConfig,
@@ -43,7 +76,7 @@ fn read(path: &Path) -> Result<String, BuildError> {
 /// Read and parse the input files of a request (with their text, for
 /// provenance). The CSV files must be UTF-8 (a byte-order mark is
 /// ignored); a byte that is not is an error at its line and column.
-pub fn read_inputs(req: &BuildRequest) -> Result<(TrackInputs, Vec<InputFile>), BuildError> {
+pub fn read_inputs(req: &BuildRequest) -> Result<(Inputs, Vec<InputFile>), BuildError> {
     let mut files = Vec::new();
     let mut keep = |role: &str, path: &Path, text: &str| {
         files.push(InputFile {
@@ -52,17 +85,32 @@ pub fn read_inputs(req: &BuildRequest) -> Result<(TrackInputs, Vec<InputFile>), 
             text: text.into(),
         })
     };
-    let text = read_text(&req.centerline)?;
-    let centerline = CenterlineInput::parse(&req.centerline, &text)?;
-    keep("centerline", &req.centerline, &text);
-    let cant = match &req.cant {
-        Some(p) => {
-            let text = read_text(p)?;
-            let c = CantInput::parse(p, &text)?;
-            keep("cant", p, &text);
-            Some(c)
+    enum Geometry {
+        ControlPoints(Box<(CenterlineInput, Option<CantInput>)>),
+        Design(DesignInput),
+    }
+    let geometry = match &req.geometry {
+        GeometryFiles::ControlPoints { centerline, cant } => {
+            let text = read_text(centerline)?;
+            let parsed = CenterlineInput::parse(centerline, &text)?;
+            keep("centerline", centerline, &text);
+            let cant = match cant {
+                Some(p) => {
+                    let text = read_text(p)?;
+                    let c = CantInput::parse(p, &text)?;
+                    keep("cant", p, &text);
+                    Some(c)
+                }
+                None => None,
+            };
+            Geometry::ControlPoints(Box::new((parsed, cant)))
         }
-        None => None,
+        GeometryFiles::Design(p) => {
+            let text = read_text(p)?;
+            let d = DesignInput::parse(p, &text, req.config.cant_base_m())?;
+            keep("design", p, &text);
+            Geometry::Design(d)
+        }
     };
     let irregularities = match &req.irregularities {
         Some(p) => {
@@ -73,14 +121,21 @@ pub fn read_inputs(req: &BuildRequest) -> Result<(TrackInputs, Vec<InputFile>), 
         }
         None => None,
     };
-    Ok((
-        TrackInputs {
-            centerline,
-            cant,
+    let inputs = match geometry {
+        Geometry::ControlPoints(b) => {
+            let (centerline, cant) = *b;
+            Inputs::ControlPoints(Box::new(TrackInputs {
+                centerline,
+                cant,
+                irregularities,
+            }))
+        }
+        Geometry::Design(design) => Inputs::Design(Box::new(DesignInputs {
+            design,
             irregularities,
-        },
-        files,
-    ))
+        })),
+    };
+    Ok((inputs, files))
 }
 
 /// The rail profile of a build checked against its inclination (double
@@ -108,7 +163,7 @@ pub fn build_tables(
     req.config.validate()?;
     let rail = check_build_rail(&req.config)?;
     let (inputs, files) = read_inputs(req)?;
-    let model = TrackModel::build(&inputs, &req.config)?;
+    let model = TrackModel::from_inputs(&inputs, &req.config)?;
     let mut tables = model.tabulate(progress)?;
     let mut files = files;
     if let (Some(r), Some(path)) = (rail, &req.config.rail_profile) {

@@ -20,8 +20,9 @@ fn shipped(rel: &str) -> PathBuf {
 
 fn track(dir: &str, irregular: bool) -> TrackTables {
     let req = BuildRequest {
-        centerline: shipped(&format!("tracks/{dir}/centerline.csv")),
-        cant: None,
+        geometry: preproc::GeometryFiles::centerline(shipped(&format!(
+            "tracks/{dir}/centerline.csv"
+        ))),
         irregularities: irregular.then(|| shipped(&format!("tracks/{dir}/irregularities.csv"))),
         output: PathBuf::from("unused.h5"),
         config: BuildConfig {

@@ -73,3 +73,23 @@ fn permuted_columns_are_refused_not_read_wrongly() {
     }
     std::fs::remove_dir_all(&d).unwrap();
 }
+
+/// The cant's spline scheme is recorded (`cant_scheme`); a file written
+/// before it was (no attribute) reads it as the centreline's `scheme`, the
+/// one its cant was splined with then.
+#[test]
+fn cant_scheme_is_recorded_and_older_files_read_it_as_scheme() {
+    let dir = scratch("cant_scheme");
+    let path = dir.join("t.h5");
+    let mut tables = straight_track(20.0, 0.5, 1.435, 1.507, 0.0);
+    tables.meta.scheme = "akima".into();
+    tables.meta.cant_scheme = "pchip".into();
+    write_track_file(&path, &tables, &Provenance::default()).unwrap();
+    assert_eq!(read_track(&path).unwrap().meta.cant_scheme, "pchip");
+    let f = hdf5::File::open_rw(&path).unwrap();
+    f.delete_attr("cant_scheme").unwrap();
+    drop(f);
+    let meta = read_track(&path).unwrap().meta;
+    assert_eq!(meta.cant_scheme, "akima");
+    assert_eq!(meta.scheme, "akima");
+}

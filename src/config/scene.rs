@@ -11,9 +11,11 @@
 //! (track)
 //! centerline = "../tracks/straight_300m/centerline.csv"  # built on demand, cached
 //! # cant = "…", irregularities = "…"      optional CSV inputs
+//! # design = "../tracks/r600_design.toml"  or a track from design elements
 //! # tables = "straight.h5"                or a table file from track-preproc
 //! step_m = 0.1
-//! scheme = "cubic"
+//! scheme = "cubic"            # centreline and rails
+//! cant_scheme = "pchip"        # the cant of control points (default pchip)
 //! gauge_m = 1.435
 //! rail_inclination = "1:40"    # turns the profile as drawn; default 1:40
 //! rail_profile = "../profiles/MBench_UIC60_v3.prr"
@@ -95,6 +97,10 @@ pub struct TrackSection {
     /// Centreline control points (CSV).
     #[serde(default)]
     pub centerline: Option<PathBuf>,
+    /// Or: a track from design elements (TOML, docs/reference/02-inputs.md
+    /// §2.6), built on demand and cached like `centerline`.
+    #[serde(default)]
+    pub design: Option<PathBuf>,
     /// Or: an ideal straight track of this length (m), tabulated in memory
     /// at `step_m` (no file; for long stability runs).
     #[serde(default)]
@@ -109,6 +115,10 @@ pub struct TrackSection {
     pub step_m: f64,
     #[serde(default = "default_scheme")]
     pub scheme: String,
+    /// Spline scheme of the cant of control points (default `pchip`,
+    /// shape-preserving; docs/reference/03-track-preproc.md §3c).
+    #[serde(default = "default_cant_scheme")]
+    pub cant_scheme: String,
     #[serde(default = "default_gauge")]
     pub gauge_m: f64,
     /// Rail inclination towards the track centre, turning the rail profile
@@ -147,6 +157,9 @@ fn default_step() -> f64 {
 }
 fn default_scheme() -> String {
     "cubic".into()
+}
+fn default_cant_scheme() -> String {
+    preproc::config::DEFAULT_CANT_SCHEME.name().into()
 }
 fn default_gauge() -> f64 {
     1.435
@@ -629,13 +642,19 @@ impl LoadedScene {
     pub fn input_paths(&self) -> Vec<PathBuf> {
         let s = &self.scene;
         let t = &s.track;
-        let mut out: Vec<PathBuf> = [&t.tables, &t.centerline, &t.cant, &t.irregularities]
-            .into_iter()
-            .flatten()
-            .chain(std::iter::once(&t.rail_profile))
-            .chain(s.contact.imported_table.iter())
-            .map(|p| self.path(p))
-            .collect();
+        let mut out: Vec<PathBuf> = [
+            &t.tables,
+            &t.centerline,
+            &t.design,
+            &t.cant,
+            &t.irregularities,
+        ]
+        .into_iter()
+        .flatten()
+        .chain(std::iter::once(&t.rail_profile))
+        .chain(s.contact.imported_table.iter())
+        .map(|p| self.path(p))
+        .collect();
         let vehicle = self.path(&s.vehicle.file);
         if let Ok(v) = super::vehicle::VehicleFile::load(&vehicle) {
             out.extend(v.wheelsets.iter().map(|w| v.profile_path(w)));
@@ -697,15 +716,26 @@ impl Scene {
         self.load.validate()?;
         self.perturbation.validate()?;
         let t = &self.track;
-        match (&t.tables, &t.centerline, t.straight_m) {
-            (Some(_), None, None) | (None, Some(_), None) => {}
-            (None, None, Some(l)) => ensure!(
+        match (&t.tables, &t.centerline, &t.design, t.straight_m) {
+            (Some(_), None, None, None)
+            | (None, Some(_), None, None)
+            | (None, None, Some(_), None) => {}
+            (None, None, None, Some(l)) => ensure!(
                 l.is_finite() && l > 10.0 && l <= 1e6,
                 "[track] straight_m = {l} must lie in (10, 1e6] m"
             ),
             _ => bail!(
-                "[track]: give one of tables (a .h5 file), centerline (CSV inputs) or straight_m (an ideal straight)"
+                "[track]: give one of tables (a .h5 file), centerline (CSV inputs), design (a design file) or straight_m (an ideal straight)"
             ),
+        }
+        ensure!(
+            t.design.is_none() || t.cant.is_none(),
+            "[track]: the cant of a design track is in its design file (cant_mm on its elements); remove cant"
+        );
+        for (key, value) in [("scheme", &t.scheme), ("cant_scheme", &t.cant_scheme)] {
+            value
+                .parse::<runtime::geometry::spline::Scheme>()
+                .with_context(|| format!("[track] {key} = \"{value}\""))?;
         }
         ensure!(
             t.tables.is_none() || (t.cant.is_none() && t.irregularities.is_none()),
@@ -722,8 +752,8 @@ impl Scene {
                 "[track] range_m = [{a}, {b}] must be [from, to] with 0 <= from < to (m)"
             );
             ensure!(
-                t.centerline.is_some(),
-                "[track] range_m needs centerline inputs (a table file is used as it is; an ideal straight is shortened with straight_m)"
+                t.centerline.is_some() || t.design.is_some(),
+                "[track] range_m needs centerline or design inputs (a table file is used as it is; an ideal straight is shortened with straight_m)"
             );
         }
         t.stated_inclination()?;

@@ -79,6 +79,7 @@ impl Variation {
         let t = &scene.track;
         for (key, set) in [
             ("centerline", t.centerline.is_some()),
+            ("design", t.design.is_some()),
             ("tables", t.tables.is_some()),
             ("cant", t.cant.is_some()),
             ("irregularities", t.irregularities.is_some()),

@@ -6,7 +6,7 @@
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
-use preproc::{BuildConfig, BuildRequest, NoProgress, build_tables};
+use preproc::{BuildConfig, BuildRequest, GeometryFiles, NoProgress, build_tables};
 use runtime::geometry::profile::rail_cant::{RailCantCheck, Spelling, check_rail_file, slope_text};
 use runtime::geometry::track::TrackTables;
 use serde::Serialize;
@@ -150,8 +150,7 @@ pub fn load_track(ls: &LoadedScene) -> Result<(TrackTables, TrackSource)> {
             TrackSource {
                 path: format!(
                     "{} s {a:.1} … {b:.1} m at {} m (in memory)",
-                    ls.path(t.centerline.as_ref().context("no centerline")?)
-                        .display(),
+                    crate::session::plan::geometry_files(ls)?.paths()[0].display(),
                     t.step_m
                 ),
                 built: true,
@@ -159,23 +158,25 @@ pub fn load_track(ls: &LoadedScene) -> Result<(TrackTables, TrackSource)> {
             },
         ));
     }
-    let centerline = ls.path(t.centerline.as_ref().context("no centerline")?);
-    let cant = t.cant.as_ref().map(|p| ls.path(p));
+    let geometry = crate::session::plan::geometry_files(ls)?;
     let irregularities = t.irregularities.as_ref().map(|p| ls.path(p));
     let config = crate::session::plan::build_config(ls)?;
     let mut key = Fnv64::default();
     key.write_str(env!("CARGO_PKG_VERSION"))
         .write_str(&format!("{config:?}"));
-    // The rail profile is recorded in the tables: its content is part of
-    // the key (`config` holds only its path).
-    for p in [
-        Some(&centerline),
-        cant.as_ref(),
-        irregularities.as_ref(),
-        config.rail_profile.as_ref(),
-    ]
-    .into_iter()
-    .flatten()
+    // The kind of geometry (a design file's text is not a centreline's),
+    // then the content of every input: the rail profile is recorded in the
+    // tables, so its content is part of the key too (`config` holds only
+    // its path).
+    key.write_str(match geometry {
+        GeometryFiles::Design(_) => "design",
+        GeometryFiles::ControlPoints { .. } => "control points",
+    });
+    for p in geometry
+        .paths()
+        .into_iter()
+        .chain(irregularities.as_deref())
+        .chain(config.rail_profile.as_deref())
     {
         let text =
             std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?;
@@ -196,8 +197,7 @@ pub fn load_track(ls: &LoadedScene) -> Result<(TrackTables, TrackSource)> {
     }
     let start = Instant::now();
     let req = BuildRequest {
-        centerline,
-        cant,
+        geometry,
         irregularities,
         output: path.clone(),
         config,

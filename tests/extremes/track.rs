@@ -1211,7 +1211,7 @@ fn spline_overshoot_at_a_step_cubic_versus_akima_and_pchip() {
             &dir,
             &format!("cant_{scheme}"),
             &centreline,
-            &["--scheme", scheme, "--cant", &cant_arg],
+            &["--cant-scheme", scheme, "--cant", &cant_arg],
         );
         let t = read_tables(&h5);
         let e0 = t.meta.cant_base_m;

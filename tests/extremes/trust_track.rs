@@ -327,25 +327,25 @@ fn trust_track_rail_length_against_its_rows() {
 }
 
 /// A cant of 195 mm (within the 200 mm bound) reached in 1 m: the cubic
-/// spline overshoots it to 216 mm in the table; refused at the s of the
-/// overshoot, naming the input's line and advising pchip, with which it
-/// builds at 195 mm.
+/// spline (`--cant-scheme cubic`) overshoots it to 216 mm in the table;
+/// refused at the s of the overshoot, naming the input's line and advising
+/// pchip, the cant's default, with which it builds at 195 mm.
 #[test]
 fn trust_track_built_cant_overshoot() {
     let dir = scratch("trust_track_cant_overshoot");
     let step = |i: usize| if (100..=200).contains(&i) { 195.0 } else { 0.0 };
     let c = write(&dir, "c.csv", straight(Some(("cant_mm", &step))));
     refused(
-        &build(&dir, &c, &[]),
+        &build(&dir, &c, &["--cant-scheme", "cubic"]),
         "cubic",
         &[
             "the built cant reaches +0.1444 rad (+215.8 mm) at s = 199.600 m",
             "the input's largest cant is 0.1304 rad",
             "line 102",
-            "--scheme pchip",
+            "--cant-scheme pchip",
         ],
     );
-    let out = built(&build(&dir, &c, &["--scheme", "pchip"]), "pchip");
+    let out = built(&build(&dir, &c, &[]), "pchip");
     assert!(
         out.contains("max cant          0.1304 rad (195.0 mm)"),
         "{out}"

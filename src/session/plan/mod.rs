@@ -69,7 +69,7 @@ pub use flange::{
 pub use measured::{
     CreepLawCost, CreepLawCosts, Measured, MeasuredTableError, Provenance, TrackKind, measured,
 };
-pub use range::{build_config, build_track_range};
+pub use range::{build_config, build_track_range, geometry_files};
 pub use step::{FINEST_STEP_M, GEOMETRY_TOLERANCE_M, MAX_STEP_M, NICE_STEPS_M};
 
 /// The items the planner may choose (`[plan] choose`).

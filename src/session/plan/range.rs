@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
-use preproc::{BuildConfig, BuildRequest, RailSpacing, TrackModel};
+use preproc::{BuildConfig, BuildRequest, GeometryFiles, RailSpacing, TrackModel};
 use runtime::geometry::track::TrackTables;
 
 use super::facts::{DYNAMICS_LOOKAHEAD_M, RANGE_MARGIN_M, TrackFacts, travel_m, vehicle_extent_m};
@@ -111,6 +111,7 @@ pub fn build_config(ls: &LoadedScene) -> Result<BuildConfig> {
     let t = &ls.scene.track;
     Ok(BuildConfig {
         scheme: t.scheme.parse().context("[track] scheme")?,
+        cant_scheme: t.cant_scheme.parse().context("[track] cant_scheme")?,
         step_m: t.step_m,
         gauge_m: t.gauge_m,
         rail_spacing: RailSpacing::default(),
@@ -121,12 +122,25 @@ pub fn build_config(ls: &LoadedScene) -> Result<BuildConfig> {
     })
 }
 
+/// The files of the scene's track geometry: its design file, or its
+/// centreline and cant CSVs.
+pub fn geometry_files(ls: &LoadedScene) -> Result<GeometryFiles> {
+    let t = &ls.scene.track;
+    Ok(match (&t.design, &t.centerline) {
+        (Some(d), _) => GeometryFiles::Design(ls.path(d)),
+        (None, Some(c)) => GeometryFiles::ControlPoints {
+            centerline: ls.path(c),
+            cant: t.cant.as_ref().map(|p| ls.path(p)),
+        },
+        (None, None) => anyhow::bail!("[track] has neither centerline nor design inputs"),
+    })
+}
+
 /// The scene's CSV inputs fitted (every curve of the track, no tables).
 pub(super) fn track_model(ls: &LoadedScene, config: &BuildConfig) -> Result<TrackModel> {
     let t = &ls.scene.track;
     let req = BuildRequest {
-        centerline: ls.path(t.centerline.as_ref().context("no centerline")?),
-        cant: t.cant.as_ref().map(|p| ls.path(p)),
+        geometry: geometry_files(ls)?,
         irregularities: t.irregularities.as_ref().map(|p| ls.path(p)),
         output: PathBuf::new(),
         config: config.clone(),
@@ -134,7 +148,7 @@ pub(super) fn track_model(ls: &LoadedScene, config: &BuildConfig) -> Result<Trac
         command_line: String::new(),
     };
     let (inputs, _) = preproc::pipeline::read_inputs(&req).context("reading the track inputs")?;
-    TrackModel::build(&inputs, config).context("fitting the track")
+    TrackModel::from_inputs(&inputs, config).context("fitting the track")
 }
 
 /// The scene's track tables over `[from, to]` (m) only, built in memory

@@ -85,6 +85,11 @@ pub enum TrackError {
 pub struct TrackMeta {
     /// Spline scheme of the centreline and rails ("cubic", "akima", …).
     pub scheme: String,
+    /// Spline scheme of the cant ("pchip", …; "design" for a track from
+    /// design elements, "exact" for an ideal straight). Files written
+    /// before it was recorded read as `scheme` (the cant used the
+    /// centreline's scheme then).
+    pub cant_scheme: String,
     /// Table step Δs (m).
     pub step_m: f64,
     /// Nominal track gauge (m).

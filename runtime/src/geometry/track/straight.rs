@@ -48,6 +48,7 @@ pub fn straight_track(
     TrackTables {
         meta: TrackMeta {
             scheme: "exact".into(),
+            cant_scheme: "exact".into(),
             step_m: length_m / n as f64,
             gauge_m,
             rail_spacing_m,

@@ -6,7 +6,7 @@
 //!
 //! ```text
 //! /                         attributes: schema_version (u32), tool, tool_version,
-//!                           scheme, step_m, gauge_m, rail_spacing_m, cant_base_m,
+//!                           scheme, cant_scheme, step_m, gauge_m, rail_spacing_m, cant_base_m,
 //!                           rail_inclination, rail_inclination_rad, length_m;
 //!                           with a rail profile: rail_profile, rail_profile_sha256,
 //!                           rail_profile_cant_rad, rail_profile_cant_source

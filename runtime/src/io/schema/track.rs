@@ -76,6 +76,7 @@ impl TableFileWriter {
         self.attr_str("tool", &m.tool)?;
         self.attr_str("tool_version", &m.tool_version)?;
         self.attr_str("scheme", &m.scheme)?;
+        self.attr_str("cant_scheme", &m.cant_scheme)?;
         self.attr_f64("step_m", m.step_m)?;
         self.attr_f64("gauge_m", m.gauge_m)?;
         self.attr_f64("rail_spacing_m", m.rail_spacing_m)?;
@@ -276,8 +277,14 @@ pub fn read_track_meta(path: &Path) -> Result<TrackMeta, SchemaError> {
 }
 
 fn read_meta(path: &Path, file: &hdf5::File) -> Result<TrackMeta, SchemaError> {
+    let scheme = read_attr_str(path, file, "scheme")?;
     Ok(TrackMeta {
-        scheme: read_attr_str(path, file, "scheme")?,
+        // Older files: the cant used the centreline's scheme.
+        cant_scheme: match has_attr(file, "cant_scheme") {
+            true => read_attr_str(path, file, "cant_scheme")?,
+            false => scheme.clone(),
+        },
+        scheme,
         step_m: read_attr_f64(path, file, "step_m")?,
         gauge_m: read_attr_f64(path, file, "gauge_m")?,
         rail_spacing_m: read_attr_f64(path, file, "rail_spacing_m")?,
