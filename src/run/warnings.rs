@@ -164,7 +164,7 @@ pub fn energy_residual(e: &EnergySummary, method: &Method) -> Option<RunWarning>
     Some(RunWarning::new(
         "energy_residual",
         format!(
-            "the energy balance leaves {:.3} J unexplained, {:.1} % of its largest term ({name}, {largest:.3} J), above the {} % a converged run stays within: the step is too large for the stiffest mode (contact, creep at low speed) and the results are not to be trusted; {}",
+            "the energy balance leaves {:.3} J unexplained, {:.1} % of its largest term ({name}, {largest:.3} J), above the {} % a converged run stays within, and the results are not to be trusted: either the step is too large for the stiffest mode (contact, creep at low speed) — {} — or a force of the model does work the balance does not see (seen with the imported contact table on curves, whose normal force is not the gradient of the elastic energy counted: a residual that does not shrink with the step, docs/guide/extremes-and-diagnostics.md); halve the step: if the residual stays, it is the model's",
             e.residual_j,
             100.0 * fraction,
             100.0 * ENERGY_RESIDUAL_WARN_FRACTION,
