@@ -205,3 +205,42 @@ mod tests {
         assert!(e.contains("polak") && e.contains("polach"), "{e}");
     }
 }
+
+choice! {
+    /// A spline scheme of the track build (`[track] scheme`, `cant_scheme`;
+    /// docs/reference/03-track-preproc.md §3a: the schemes and their accuracy).
+    SplineScheme {
+        /// Cubic spline, not-a-knot ends.
+        Cubic = "cubic",
+        /// Cubic spline, natural ends.
+        CubicNatural = "cubic-natural",
+        /// Akima's local spline.
+        Akima = "akima",
+        /// Shape-preserving piecewise cubic Hermite (Fritsch–Carlson).
+        Pchip = "pchip",
+    }
+}
+
+impl SplineScheme {
+    /// The runtime's scheme.
+    pub fn scheme(self) -> runtime::geometry::spline::Scheme {
+        use runtime::geometry::spline::Scheme;
+        match self {
+            SplineScheme::Cubic => Scheme::Cubic,
+            SplineScheme::CubicNatural => Scheme::CubicNatural,
+            SplineScheme::Akima => Scheme::Akima,
+            SplineScheme::Pchip => Scheme::Pchip,
+        }
+    }
+
+    /// The scene's word of a runtime scheme.
+    pub fn of(scheme: runtime::geometry::spline::Scheme) -> Self {
+        use runtime::geometry::spline::Scheme;
+        match scheme {
+            Scheme::Cubic => SplineScheme::Cubic,
+            Scheme::CubicNatural => SplineScheme::CubicNatural,
+            Scheme::Akima => SplineScheme::Akima,
+            Scheme::Pchip => SplineScheme::Pchip,
+        }
+    }
+}

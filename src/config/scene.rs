@@ -84,7 +84,7 @@ use super::overrides::{command_line_assignment, set_entry, typed};
 
 pub use super::choices::{
     ContactMethodKind, CreepLawName, FlangeMode, IntegratorKind, NonHertzianMode, PlanItem,
-    PlanMode, PolachPreset,
+    PlanMode, PolachPreset, SplineScheme,
 };
 
 /// The track: a table file, or CSV inputs built on demand (and cached).
@@ -114,11 +114,11 @@ pub struct TrackSection {
     #[serde(default = "default_step")]
     pub step_m: f64,
     #[serde(default = "default_scheme")]
-    pub scheme: String,
+    pub scheme: SplineScheme,
     /// Spline scheme of the cant of control points (default `pchip`,
     /// shape-preserving; docs/reference/03-track-preproc.md §3c).
     #[serde(default = "default_cant_scheme")]
-    pub cant_scheme: String,
+    pub cant_scheme: SplineScheme,
     #[serde(default = "default_gauge")]
     pub gauge_m: f64,
     /// Rail inclination towards the track centre, turning the rail profile
@@ -155,11 +155,11 @@ pub struct TrackSection {
 fn default_step() -> f64 {
     0.1
 }
-fn default_scheme() -> String {
-    "cubic".into()
+fn default_scheme() -> SplineScheme {
+    SplineScheme::Cubic
 }
-fn default_cant_scheme() -> String {
-    preproc::config::DEFAULT_CANT_SCHEME.name().into()
+fn default_cant_scheme() -> SplineScheme {
+    SplineScheme::of(preproc::config::DEFAULT_CANT_SCHEME)
 }
 fn default_gauge() -> f64 {
     1.435
@@ -732,11 +732,6 @@ impl Scene {
             t.design.is_none() || t.cant.is_none(),
             "[track]: the cant of a design track is in its design file (cant_mm on its elements); remove cant"
         );
-        for (key, value) in [("scheme", &t.scheme), ("cant_scheme", &t.cant_scheme)] {
-            value
-                .parse::<runtime::geometry::spline::Scheme>()
-                .with_context(|| format!("[track] {key} = \"{value}\""))?;
-        }
         ensure!(
             t.tables.is_none() || (t.cant.is_none() && t.irregularities.is_none()),
             "[track]: cant and irregularities are CSV inputs; with tables they are already built in"

@@ -110,8 +110,8 @@ pub(super) fn decide(
 pub fn build_config(ls: &LoadedScene) -> Result<BuildConfig> {
     let t = &ls.scene.track;
     Ok(BuildConfig {
-        scheme: t.scheme.parse().context("[track] scheme")?,
-        cant_scheme: t.cant_scheme.parse().context("[track] cant_scheme")?,
+        scheme: t.scheme.scheme(),
+        cant_scheme: t.cant_scheme.scheme(),
         step_m: t.step_m,
         gauge_m: t.gauge_m,
         rail_spacing: RailSpacing::default(),

@@ -235,7 +235,7 @@ pub fn variants(scene: &Scene, quick: bool) -> (Vec<Variant>, Vec<String>) {
     }
     if scene.track.centerline.is_some() {
         for scheme in ["cubic", "akima", "pchip"] {
-            if scheme != scene.track.scheme {
+            if scheme != scene.track.scheme.as_str() {
                 v.push(Variant::new(
                     &format!("scheme {scheme}"),
                     "model",
