@@ -13,7 +13,7 @@
 //! - [`element`]: one plan element placed in the plan;
 //! - [`vertical`]: grades and vertical curves, s ↔ σ;
 //! - [`cant`]: the cant along one element;
-//! - [`file`]: the TOML design file and its rules;
+//! - [`file`](mod@file): the TOML design file and its rules;
 //! - [`track`]: the evaluated track.
 
 pub mod cant;
