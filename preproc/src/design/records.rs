@@ -33,8 +33,8 @@ impl DesignTrack {
             }
             // Curvature and cant at a track distance inside the element.
             let at = |s_m: f64| {
-                let local = (self.vertical.sigma_at(s_m) - self.sigma_start_m[k])
-                    .clamp(0.0, e.length_m);
+                let local =
+                    (self.vertical.sigma_at(s_m) - self.sigma_start_m[k]).clamp(0.0, e.length_m);
                 (
                     e.at(local).kappa_1_m,
                     self.cant[k].at(local / e.length_m, e.length_m).0,
@@ -53,9 +53,7 @@ impl DesignTrack {
                 PlanShape::Arc => (PlanElementKind::Arc, ""),
                 PlanShape::Transition(Ramp::Linear) => (PlanElementKind::Transition, "clothoid"),
                 PlanShape::Transition(r) => (PlanElementKind::Transition, r.name()),
-                PlanShape::CubicParabola { .. } => {
-                    (PlanElementKind::Transition, "cubic-parabola")
-                }
+                PlanShape::CubicParabola { .. } => (PlanElementKind::Transition, "cubic-parabola"),
             };
             out.push(DesignElement {
                 kind,

@@ -163,7 +163,10 @@ mod tests {
             radius_m: None,
         }];
         let t = curving_text(&c);
-        assert!(t.starts_with("  track elements (from the curvature): straight 0.0–10.0 m\n"), "{t}");
+        assert!(
+            t.starts_with("  track elements (from the curvature): straight 0.0–10.0 m\n"),
+            "{t}"
+        );
         c.track_elements_source = crate::run::curving::ElementSource::DesignFile;
         assert!(curving_text(&c).starts_with("  track elements (design file): straight"));
     }

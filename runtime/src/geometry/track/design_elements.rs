@@ -132,7 +132,10 @@ mod tests {
             assert_eq!(PlanElementKind::from_name(k.name()), Some(k));
         }
         assert_eq!(PlanElementKind::from_name("spiral"), None);
-        assert_eq!(check_design_elements(&[arc(0.0, 10.0), arc(10.0, 20.0)]), Ok(()));
+        assert_eq!(
+            check_design_elements(&[arc(0.0, 10.0), arc(10.0, 20.0)]),
+            Ok(())
+        );
         let e = check_design_elements(&[arc(0.0, 10.0), arc(11.0, 20.0)]).unwrap_err();
         assert!(e.contains("element 1 (arc): starts at s = 11"), "{e}");
         assert!(check_design_elements(&[arc(5.0, 5.0)]).is_err());
@@ -142,6 +145,10 @@ mod tests {
         assert!(e.contains("check the unit"), "{e}");
         let mut r = arc(0.0, 1.0);
         r.radius_start_m = 0.6;
-        assert!(check_design_elements(&[r]).unwrap_err().contains("check the unit"));
+        assert!(
+            check_design_elements(&[r])
+                .unwrap_err()
+                .contains("check the unit")
+        );
     }
 }

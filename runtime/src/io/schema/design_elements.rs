@@ -19,12 +19,18 @@ pub const GROUP: &str = "design";
 /// The numeric datasets: name, unit, description, value.
 type Pick = fn(&DesignElement) -> f64;
 const NUMBERS: [(&str, &str, &str, Pick); 6] = [
-    ("s_start_m", "m", "track distance s at the element's start", |e| {
-        e.s_start_m
-    }),
-    ("s_end_m", "m", "track distance s at the element's end", |e| {
-        e.s_end_m
-    }),
+    (
+        "s_start_m",
+        "m",
+        "track distance s at the element's start",
+        |e| e.s_start_m,
+    ),
+    (
+        "s_end_m",
+        "m",
+        "track distance s at the element's end",
+        |e| e.s_end_m,
+    ),
     (
         "radius_start_m",
         "m",
