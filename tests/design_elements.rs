@@ -26,9 +26,19 @@ fn a_design_build_records_its_elements_and_a_stretch_clips_them() {
         out.to_str().unwrap(),
     ]));
     assert!(o.status.success(), "{}", stderr(&o));
-    let e = runtime::io::schema::read_track(&out)
-        .unwrap()
-        .design_elements;
+    let tables = runtime::io::schema::read_track(&out).unwrap();
+    // What the curvature rule finds instead: 276.1–584.1 m, R −600.4 m
+    // (measured), which the design's elements replace.
+    let rows = tables.centerline.rows();
+    let s: Vec<f64> = rows.iter().map(|r| r.s_m).collect();
+    let k: Vec<f64> = rows.iter().map(|r| r.horizontal_curvature_1_m).collect();
+    let found = railsim::run::curving::elements::find_elements(&s, &k);
+    let arc = found
+        .iter()
+        .find(|e| e.kind == railsim::run::curving::ElementKind::Arc)
+        .unwrap();
+    assert!(arc.start_s_m < 279.0 && arc.end_s_m > 581.0, "{arc:?}");
+    let e = tables.design_elements;
     let joints: Vec<f64> = e.iter().map(|e| e.s_start_m).collect();
     assert_eq!(
         joints,
