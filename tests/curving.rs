@@ -84,7 +84,8 @@ fn a_curve_run_reports_curving_safety_and_wear() {
     assert!(s["wear"][1]["mean_wear_number_n"].as_f64().unwrap() > 10.0);
 
     // The track's elements and the arc (R 300 m from 110 to 260 m, found
-    // within the 5 % band).
+    // within the 5 % band): a control-point track has no design elements.
+    assert_eq!(j["curving"]["track_elements_source"], "curvature");
     let kinds: Vec<&str> = j["curving"]["track_elements"]
         .as_array()
         .unwrap()
@@ -130,7 +131,7 @@ fn a_curve_run_reports_curving_safety_and_wear() {
         "ΔQ/Q0",
         "angle of attack",
         "Tγ",
-        "track elements: straight",
+        "track elements (from the curvature): straight",
         "(R 300 m)",
         "quasi-static (50 %)",
     ] {

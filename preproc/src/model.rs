@@ -3,7 +3,7 @@
 
 use rayon::prelude::*;
 use runtime::geometry::track::{
-    CenterlineRow, CenterlineTable, RailRow, RailTable, Side, TrackMeta, TrackTables,
+    CenterlineRow, CenterlineTable, DesignElement, RailRow, RailTable, Side, TrackMeta, TrackTables,
 };
 
 use crate::centerline::Centerline;
@@ -217,14 +217,25 @@ impl TrackModel {
         }
         let right = rails.pop().expect("two rails");
         let left = rails.pop().expect("two rails");
+        let (s_lo, s_hi) = centerline.range_m();
         let tables = TrackTables {
             meta: self.meta(),
             centerline,
             left,
             right,
+            design_elements: self.design_elements(s_lo, s_hi),
         };
         self.check(&tables)?;
         Ok(tables)
+    }
+
+    /// The plan elements of a design track over [s_from, s_to] (m; the
+    /// tables' range), clipped to it; none for a track from control points.
+    fn design_elements(&self, s_from_m: f64, s_to_m: f64) -> Vec<DesignElement> {
+        self.centerline
+            .design()
+            .map(|d| d.plan_elements(s_from_m, s_to_m))
+            .unwrap_or_default()
     }
 
     /// The checks on what is built ([`crate::built`]).
@@ -294,6 +305,7 @@ impl TrackModel {
             centerline,
             left,
             right,
+            design_elements: self.design_elements(s_lo, s_hi),
         };
         self.check(&tables)?;
         Ok(tables)

@@ -93,3 +93,77 @@ fn cant_scheme_is_recorded_and_older_files_read_it_as_scheme() {
     assert_eq!(meta.cant_scheme, "akima");
     assert_eq!(meta.scheme, "akima");
 }
+
+/// The plan elements of a design track (`/design`) round-trip through the
+/// file, infinite radii included; a file without them (a control-point
+/// track, an older file) reads as none; a damaged group is refused.
+#[test]
+fn design_elements_round_trip_and_files_without_them_read_as_none() {
+    use runtime::geometry::track::{DesignElement, PlanElementKind};
+    let dir = scratch("design_elements");
+    let plain = dir.join("plain.h5");
+    let mut tables = straight_track(20.0, 0.5, 1.435, 1.507, 0.0);
+    write_track_file(&plain, &tables, &Provenance::default()).unwrap();
+    assert!(read_track(&plain).unwrap().design_elements.is_empty());
+    assert!(!hdf5::File::open(&plain).unwrap().link_exists("design"));
+
+    let cant = (0.12_f64 / 1.5).asin();
+    let e = |kind, a: f64, b: f64, r: [f64; 2], c: [f64; 2], shape: &str| DesignElement {
+        kind,
+        s_start_m: a,
+        s_end_m: b,
+        radius_start_m: r[0],
+        radius_end_m: r[1],
+        cant_start_rad: c[0],
+        cant_end_rad: c[1],
+        shape: shape.into(),
+        cant_ramp: "linear".into(),
+    };
+    let inf = f64::INFINITY;
+    tables.design_elements = vec![
+        e(
+            PlanElementKind::Straight,
+            0.0,
+            5.0,
+            [inf, inf],
+            [0.0, 0.0],
+            "",
+        ),
+        e(
+            PlanElementKind::Transition,
+            5.0,
+            12.5,
+            [inf, -600.0],
+            [0.0, cant],
+            "clothoid",
+        ),
+        e(
+            PlanElementKind::Arc,
+            12.5,
+            20.0,
+            [-600.0, -600.0],
+            [cant, cant],
+            "",
+        ),
+    ];
+    let path = dir.join("design.h5");
+    write_track_file(&path, &tables, &Provenance::default()).unwrap();
+    let back = read_track(&path).unwrap();
+    assert_eq!(back.design_elements, tables.design_elements);
+    // Every dataset carries its unit and description.
+    {
+        let f = hdf5::File::open(&path).unwrap();
+        let ds = f.dataset("design/radius_start_m").unwrap();
+        let units: VarLenUnicode = ds.attr("units").unwrap().read_scalar().unwrap();
+        assert_eq!(units.as_str(), "m");
+        assert!(ds.attr("description").is_ok());
+    }
+
+    // A missing dataset is named.
+    let f = hdf5::File::open_rw(&path).unwrap();
+    f.unlink("design/cant_end_rad").unwrap();
+    drop(f);
+    let msg = read_track(&path).unwrap_err().to_string();
+    assert!(msg.contains("/design/cant_end_rad"), "{msg}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -12,7 +12,9 @@
 //! - Tγ (N) of every wheel, and the track's horizontal curvature (1/km,
 //!   + left) from the elements found.
 //!
-//! Every panel shades the track's elements ([`crate::run::curving::elements`]):
+//! Every panel shades the track's elements (the design file's when the
+//! tables carry them, [`crate::run::curving::design`], else found from the
+//! curvature, [`crate::run::curving::elements`]; the title says which):
 //! transitions orange, arcs blue, straights unshaded. Wheel series take
 //! palette colour 2i + k (wheelset i, wheel k: 0 left, 1 right); limit
 //! lines are black.
@@ -23,6 +25,7 @@ use anyhow::{Context, Result, ensure};
 use preproc::plot::{LineChart, Series, XBand, write_multi_panel};
 use runtime::results::{RunResults, WHEEL_GROUPS, WheelSeries, WheelsetSeries};
 
+use crate::run::curving::design::ElementSource;
 use crate::run::curving::elements::{ElementKind, TrackElement};
 use crate::run::curving::safety::{PRUDHOMME_ALPHA, position_m, static_axle_load_n};
 
@@ -191,10 +194,12 @@ fn loaded_y_over_q(w: &WheelSeries) -> Vec<f64> {
         .collect()
 }
 
-/// Write `curving.png` of `results` into `dir` under `title`.
+/// Write `curving.png` of `results` into `dir` under `title`; `source`
+/// (where `elements` come from) is named in the page's title.
 pub fn write_curving_plot(
     results: &RunResults,
     elements: &[TrackElement],
+    source: ElementSource,
     dir: &Path,
     title: &str,
 ) -> Result<PathBuf> {
@@ -207,7 +212,10 @@ pub fn write_curving_plot(
     let path = dir.join(CURVING_PNG);
     write_multi_panel(
         &path,
-        &format!("{title}: curving (shaded: transitions orange, arcs blue)"),
+        &format!(
+            "{title}: curving (shaded: transitions orange, arcs blue; elements: {})",
+            source.text()
+        ),
         &curving_panels(results, elements),
         2,
         PAGE_PX,

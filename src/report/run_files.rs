@@ -61,6 +61,7 @@ fn finish_run(
         let curving = super::curving_plot::write_curving_plot(
             &outcome.results,
             &outcome.summary.curving.track_elements,
+            outcome.summary.curving.track_elements_source,
             dir,
             &outcome.summary.title,
         )?;

@@ -162,7 +162,10 @@ pub fn load_track(ls: &LoadedScene) -> Result<(TrackTables, TrackSource)> {
     let irregularities = t.irregularities.as_ref().map(|p| ls.path(p));
     let config = crate::session::plan::build_config(ls)?;
     let mut key = Fnv64::default();
+    // "design elements": the tables record a design file's elements
+    // (`/design`) since this layout; older cached tables lack them.
     key.write_str(env!("CARGO_PKG_VERSION"))
+        .write_str("design elements")
         .write_str(&format!("{config:?}"));
     // The kind of geometry (a design file's text is not a centreline's),
     // then the content of every input: the rail profile is recorded in the

@@ -14,12 +14,14 @@
 //! - [`vertical`]: grades and vertical curves, s ↔ σ;
 //! - [`cant`]: the cant along one element;
 //! - [`file`](mod@file): the TOML design file and its rules;
-//! - [`track`]: the evaluated track.
+//! - [`track`]: the evaluated track;
+//! - [`records`]: its plan elements as the table file records them.
 
 pub mod cant;
 pub mod cubic_parabola;
 pub mod element;
 pub mod file;
+pub mod records;
 pub mod shape;
 pub mod track;
 pub mod vertical;

@@ -75,13 +75,13 @@ impl DesignPoint {
 /// A design track ready to evaluate.
 #[derive(Debug, Clone)]
 pub struct DesignTrack {
-    elements: Vec<PlanElement>,
-    cant: Vec<CantRamp>,
+    pub(super) elements: Vec<PlanElement>,
+    pub(super) cant: Vec<CantRamp>,
     /// Plan distance σ at the start of each element (m).
-    sigma_start_m: Vec<f64>,
-    vertical: Vertical,
+    pub(super) sigma_start_m: Vec<f64>,
+    pub(super) vertical: Vertical,
     /// Track distance s at each element joint, first 0, last the length (m).
-    joints_s_m: Vec<f64>,
+    pub(super) joints_s_m: Vec<f64>,
 }
 
 impl DesignTrack {

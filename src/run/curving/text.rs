@@ -63,7 +63,7 @@ pub fn curving_text(c: &CurvingSummary) -> String {
     if c.track_elements.is_empty() {
         return String::new();
     }
-    let mut t = "  track elements:".to_string();
+    let mut t = format!("  track elements ({}):", c.track_elements_source.text());
     for e in &c.track_elements {
         t += &format!(
             " {} {:.1}–{:.1} m{};",
@@ -142,9 +142,10 @@ mod tests {
                 ],
             }],
         };
-        let c = CurvingSummary {
+        let mut c = CurvingSummary {
             track_elements: vec![],
             arcs: vec![a],
+            ..Default::default()
         };
         // No elements: nothing to print.
         assert_eq!(curving_text(&c), "");
@@ -153,5 +154,20 @@ mod tests {
         assert!(t.contains("sum_y 1.000/-12.000 kN;"), "{t}");
         assert!(t.contains("y_over_q_left 1.000/0.400\n"), "{t}");
         assert!(!t.contains("speed"), "{t}");
+        // The element line names where the elements come from.
+        c.track_elements = vec![crate::run::curving::TrackElement {
+            kind: crate::run::curving::ElementKind::Straight,
+            start_s_m: 0.0,
+            end_s_m: 10.0,
+            mean_curvature_1_m: 0.0,
+            radius_m: None,
+        }];
+        let t = curving_text(&c);
+        assert!(
+            t.starts_with("  track elements (from the curvature): straight 0.0–10.0 m\n"),
+            "{t}"
+        );
+        c.track_elements_source = crate::run::curving::ElementSource::DesignFile;
+        assert!(curving_text(&c).starts_with("  track elements (design file): straight"));
     }
 }

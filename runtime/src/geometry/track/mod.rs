@@ -3,6 +3,7 @@
 //! [`crate::io::schema`].
 
 mod centerline_table;
+mod design_elements;
 mod frame;
 pub(crate) mod grid;
 mod rail_table;
@@ -10,6 +11,10 @@ mod straight;
 
 pub use centerline_table::{
     CENTERLINE_COLUMNS, CENTERLINE_UNITS, CenterlinePoint, CenterlineRow, CenterlineTable,
+};
+pub use design_elements::{
+    DesignElement, JOINT_TOLERANCE_M, MAX_CANT_RAD, MIN_RADIUS_M, PlanElementKind,
+    check_design_elements,
 };
 pub use frame::{Frame, rail_roll_rad};
 pub use rail_table::{
@@ -137,6 +142,10 @@ pub struct TrackTables {
     pub centerline: CenterlineTable,
     pub left: RailTable,
     pub right: RailTable,
+    /// The plan elements of the design file the track was built from
+    /// (clipped to the tables' stretch); empty for a track from control
+    /// points or an ideal straight.
+    pub design_elements: Vec<DesignElement>,
 }
 
 impl TrackTables {

@@ -62,5 +62,6 @@ pub fn straight_track(
         centerline: CenterlineTable::new(centerline).expect("valid straight centreline"),
         left: rail(Side::Left),
         right: rail(Side::Right),
+        design_elements: Vec::new(),
     }
 }

@@ -13,6 +13,8 @@
 //! /centerline/database      N×23 f64, attributes `columns`, `units`
 //! /left_rail/database       M×13 f64 (L x y z tx ty tz nx ny nz bx by bz)
 //! /right_rail/database      K×13 f64
+//! /design/…                 optional: the plan elements of a design file, 1-D
+//!                           datasets (layout in `design_elements`)
 //! /contact_table/…          optional: the contact lookup table (see below)
 //! /imported_contact_table/… optional: a contact table from another code
 //!                           (`track-preproc import-contact-table`; layout in `imported`)
@@ -40,6 +42,7 @@
 mod attrs;
 mod columns;
 mod contact_table;
+mod design_elements;
 mod imported;
 mod results_bodies;
 mod results_file;

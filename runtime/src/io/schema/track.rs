@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use hdf5::types::VarLenUnicode;
 
 use super::columns::{read_table, to_vlu, write_table};
-use super::{SCHEMA_VERSION, SchemaError, attrs, contact_table};
+use super::{SCHEMA_VERSION, SchemaError, attrs, contact_table, design_elements};
 use crate::contact::table::ContactTable;
 use crate::geometry::profile::rail_cant::{CantSource, RailProfileRecord};
 use crate::geometry::track::{
@@ -70,7 +70,8 @@ impl TableFileWriter {
         attrs::write_str(self.atomic.dest_path(), &self.file, name, v)
     }
 
-    /// Write the centreline and both rail databases with the root attributes.
+    /// Write the centreline and both rail databases with the root
+    /// attributes, and `/design` when the track has design elements.
     pub fn write_track(&self, track: &TrackTables) -> Result<(), SchemaError> {
         let m = &track.meta;
         self.attr_str("tool", &m.tool)?;
@@ -119,7 +120,7 @@ impl TableFileWriter {
                 RailRow::to_columns,
             )?;
         }
-        Ok(())
+        design_elements::write(&path, &self.file, &track.design_elements)
     }
 
     /// Write `/contact_table`.
@@ -332,6 +333,7 @@ pub fn read_track(path: &Path) -> Result<TrackTables, SchemaError> {
         centerline,
         left,
         right,
+        design_elements: design_elements::read(path, &file)?,
     };
     tables.check_consistency().map_err(table_err)?;
     Ok(tables)
