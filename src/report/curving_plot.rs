@@ -166,20 +166,30 @@ pub fn curving_panels(r: &RunResults, elements: &[TrackElement]) -> Vec<LineChar
 }
 
 /// The curvature (1/km) of the elements: straights 0, arcs their mean,
-/// transitions a straight ramp between their neighbours' values.
+/// transitions a straight ramp from the previous element's end value to
+/// the next element's level. Between two transitions (a reverse curve's
+/// clothoid pair) the joint's value is the one that gives the first its
+/// mean, 2·mean − start (exact for a ramp linear in s).
 fn element_outline(elements: &[TrackElement]) -> Vec<(f64, f64)> {
     let level = |e: &TrackElement| match e.kind {
         ElementKind::Straight => 0.0,
         _ => 1e3 * e.mean_curvature_1_m,
     };
     let mut points = Vec::new();
+    let mut end = 0.0;
     for (k, e) in elements.iter().enumerate() {
+        let start = if k == 0 { level(e) } else { end };
         if e.kind == ElementKind::Transition {
-            let from = k.checked_sub(1).map_or(0.0, |p| level(&elements[p]));
-            let to = elements.get(k + 1).map_or(0.0, level);
-            points.extend([(e.start_s_m, from), (e.end_s_m, to)]);
+            let start = if k == 0 { 0.0 } else { start };
+            end = match elements.get(k + 1) {
+                Some(next) if next.kind != ElementKind::Transition => level(next),
+                Some(_) => 2.0 * level(e) - start,
+                None => 0.0,
+            };
+            points.extend([(e.start_s_m, start), (e.end_s_m, end)]);
         } else {
-            points.extend([(e.start_s_m, level(e)), (e.end_s_m, level(e))]);
+            end = level(e);
+            points.extend([(e.start_s_m, end), (e.end_s_m, end)]);
         }
     }
     points
@@ -237,6 +247,34 @@ mod tests {
             end_s_m: to,
             mean_curvature_1_m: k,
             radius_m: (kind == ElementKind::Arc).then(|| 1.0 / k),
+        }
+    }
+
+    #[test]
+    fn a_reverse_curves_clothoid_pair_meets_at_zero_curvature() {
+        // Arc −2 /km, clothoid to 0, clothoid to +2 /km, arc +2 /km: the
+        // transitions' means are −1 and +1 /km.
+        let elements = [
+            element(ElementKind::Arc, 0.0, 10.0, -2e-3),
+            element(ElementKind::Transition, 10.0, 20.0, -1e-3),
+            element(ElementKind::Transition, 20.0, 30.0, 1e-3),
+            element(ElementKind::Arc, 30.0, 40.0, 2e-3),
+        ];
+        let points = element_outline(&elements);
+        let close = |a: f64, b: f64| (a - b).abs() < 1e-12;
+        let want = [
+            (0.0, -2.0),
+            (10.0, -2.0),
+            (10.0, -2.0),
+            (20.0, 0.0),
+            (20.0, 0.0),
+            (30.0, 2.0),
+            (30.0, 2.0),
+            (40.0, 2.0),
+        ];
+        assert_eq!(points.len(), want.len());
+        for (p, w) in points.iter().zip(want) {
+            assert!(close(p.0, w.0) && close(p.1, w.1), "{points:?}");
         }
     }
 
