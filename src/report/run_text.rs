@@ -52,12 +52,13 @@ impl RunSummary {
         }
         if let Some(e) = &self.energy {
             s += &format!(
-                "  energy: {:.1} J → {:.1} J; axle torque work {:.1} J, reference work {:.1} J, element turning {:.3} J, creep dissipation {:.1} J, contact damping {:.1} J, dampers {:.1} J; residual {:.3} J\n",
+                "  energy: {:.1} J → {:.1} J; axle torque work {:.1} J, reference work {:.1} J, element turning {:.3} J, contact normal work {:.1} J, creep dissipation {:.1} J, contact damping {:.1} J, dampers {:.1} J; residual {:.3} J\n",
                 e.initial_j,
                 e.final_j,
                 e.axle_torque_work_j,
                 e.reference_work_j,
                 e.element_turning_work_j,
+                e.contact_normal_work_j,
                 e.creep_dissipation_j,
                 e.contact_damping_dissipation_j,
                 e.damper_dissipation_j,

@@ -209,6 +209,7 @@ mod tests {
             contact_damping_dissipation_j: 0.0,
             damper_dissipation_j: 0.0,
             element_turning_work_j: 0.0,
+            contact_normal_work_j: 0.0,
             residual_j: 2e4 + 10.0,
         };
         let s = blow_up_signs(0.1, &[], &[], &[], Some(&e));

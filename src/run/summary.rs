@@ -34,8 +34,8 @@ pub struct WheelsetSummary {
 
 /// The energy bookkeeping of a run (J;
 /// `runtime::multibody::EnergyLedger`): E − E0 = axle torque work +
-/// reference work + element turning work − creep, contact damping and
-/// damper dissipation, up to `residual_j`.
+/// reference work + element turning work + contact normal work − creep,
+/// contact damping and damper dissipation, up to `residual_j`.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct EnergySummary {
     /// Mechanical energy (kinetic, gravity, springs, Hertz) at the start and
@@ -50,6 +50,10 @@ pub struct EnergySummary {
     /// Work of the spring–dampers beyond their potential: their directions
     /// turn with their first body (J).
     pub element_turning_work_j: f64,
+    /// Work of the contacts' elastic normal forces beyond their elastic
+    /// energy 0.4 K δ^2.5 (J): not zero where the normal force is not the
+    /// gradient of that energy (docs/reference/08-multibody.md §8.6).
+    pub contact_normal_work_j: f64,
     /// What the balance leaves unexplained (J).
     pub residual_j: f64,
 }
@@ -65,6 +69,7 @@ impl From<&EnergyLedger> for EnergySummary {
             contact_damping_dissipation_j: l.contact_damping_dissipation_j,
             damper_dissipation_j: l.damper_dissipation_j,
             element_turning_work_j: l.element_turning_work_j,
+            contact_normal_work_j: l.contact_normal_work_j,
             residual_j: l.residual_j(),
         }
     }

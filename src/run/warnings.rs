@@ -114,6 +114,7 @@ pub fn largest_energy_term(e: &EnergySummary) -> (f64, &'static str) {
         (e.axle_torque_work_j.abs(), "the axle torque work"),
         (e.reference_work_j.abs(), "the reference work"),
         (e.element_turning_work_j.abs(), "the element turning work"),
+        (e.contact_normal_work_j.abs(), "the contact normal work"),
         (e.creep_dissipation_j.abs(), "the creep dissipation"),
         (
             e.contact_damping_dissipation_j.abs(),
@@ -164,7 +165,7 @@ pub fn energy_residual(e: &EnergySummary, method: &Method) -> Option<RunWarning>
     Some(RunWarning::new(
         "energy_residual",
         format!(
-            "the energy balance leaves {:.3} J unexplained, {:.1} % of its largest term ({name}, {largest:.3} J), above the {} % a converged run stays within, and the results are not to be trusted: either the step is too large for the stiffest mode (contact, creep at low speed) — {} — or a force of the model does work the balance does not see (seen with the imported contact table on curves, whose normal force is not the gradient of the elastic energy counted: a residual that does not shrink with the step, docs/guide/extremes-and-diagnostics.md); halve the step: if the residual stays, it is the model's",
+            "the energy balance leaves {:.3} J unexplained, {:.1} % of its largest term ({name}, {largest:.3} J), above the {} % a converged run stays within, and the results are not to be trusted: either the step is too large for the stiffest mode (contact, creep at low speed) — {} — or a force of the model does work the balance does not see (a residual that does not shrink with the step; the imported contact table's normal work is booked as the contact normal work, docs/reference/08-multibody.md §8.6); halve the step: if the residual stays, it is the model's",
             e.residual_j,
             100.0 * fraction,
             100.0 * ENERGY_RESIDUAL_WARN_FRACTION,
@@ -304,6 +305,7 @@ mod tests {
             contact_damping_dissipation_j: 0.0,
             damper_dissipation_j: 0.0,
             element_turning_work_j: 0.0,
+            contact_normal_work_j: 0.0,
             residual_j,
         }
     }

@@ -114,6 +114,17 @@ pub trait ContactSource: std::fmt::Debug {
     ) -> Result<Option<ContactForce>, ContactForceError> {
         evaluate_contact(forces, c, memory, motion)
     }
+
+    /// Whether the normal force is, by construction, the gradient of the
+    /// elastic energy 0.4 K δ^2.5 the energy ledger counts (up to the change
+    /// of K across the profiles): true for the profile-based sources (force
+    /// along the profiles' common normal, δ their approach). False for the
+    /// imported table, whose normal force does work beyond that energy; the
+    /// ledger books it as the contact normal work
+    /// (docs/reference/08-multibody.md §8.6).
+    fn normal_force_is_gradient(&self) -> bool {
+        true
+    }
 }
 
 /// Settling on the wheelset's profiles, elastic support under its static

@@ -6,6 +6,7 @@
 use nalgebra::{Matrix3, Vector3};
 
 use super::system::VehicleSystem;
+use crate::forces::creepage::material_point_velocity_m_s;
 use crate::multibody::element::Anchor;
 
 /// Energy bookkeeping of a run (J): the mechanical energy E
@@ -14,7 +15,7 @@ use crate::multibody::element::Anchor;
 /// them, integrated over the accepted states by the trapezoidal rule
 /// (second order in the step). Balance (work–energy theorem):
 ///
-/// E − E0 = W_torque + W_references + W_turning − D_creep − D_contact − D_dampers,
+/// E − E0 = W_torque + W_references + W_turning + W_normal − D_creep − D_contact − D_dampers,
 ///
 /// with the powers at a state (W = watts, all ≥ 0 for the D's):
 /// - axle torques: Σ T·Ω (T about the axle, Ω the spin about it);
@@ -24,7 +25,9 @@ use crate::multibody::element::Anchor;
 /// - creep: −Σ (Fx s_x + Fy s_y + Mz s_φ) over the contacts, the forces
 ///   on the wheel times the slip velocities of the wheel's material point
 ///   against the (fixed) rail (`crate::forces::creepage`), ≥ 0 for every creep law
-///   (they oppose the slip);
+///   (they oppose the slip) — but for the imported table's, whose lateral
+///   force has the spin term c23 without the spin moment that cancels its
+///   work in Kalker's linear law, so its creep work can take either sign;
 /// - contact damping: Σ N_d δ̇ (the hysteresis part of paper eq. 22, with
 ///   the sign of δ̇);
 /// - dampers: Σ Δ̇ᵀ C Δ̇ of the elements, with their nonlinear dampers'
@@ -34,7 +37,14 @@ use crate::multibody::element::Anchor;
 /// - element turning: Σ F_b·(ω_a × (p_b − p_a)), the work of the
 ///   elements' forces beyond their potential ½ΔᵀKΔ − f₀·Δ, which is exact
 ///   only while body a does not rotate (`crate::multibody::element`): the forces are
-///   along a's turning axes (f₀ the preload; −f₀·Δ the preload's energy).
+///   along a's turning axes (f₀ the preload; −f₀·Δ the preload's energy);
+/// - contact normal work, for the wheelsets whose contact source's normal
+///   force is not the gradient of 0.4 K δ^2.5
+///   ([`super::ContactSource::normal_force_is_gradient`]: the imported
+///   table): W_normal = ∫ Σ N n·v dt + E_el − E_el,0, the normal forces'
+///   power on the wheels' material points under them integrated like the
+///   others, plus the change of those contacts' elastic energy — the work
+///   they do beyond their energy (docs/reference/08-multibody.md §8.6).
 ///
 /// The Hertz elastic energy in E is 0.4 K δ^2.5 with the stiffness K of
 /// the current contact geometry; K changes as the contact point moves
@@ -51,29 +61,54 @@ pub struct EnergyLedger {
     pub contact_damping_dissipation_j: f64,
     pub damper_dissipation_j: f64,
     pub element_turning_work_j: f64,
+    /// Work of the non-gradient contacts' elastic normal forces beyond
+    /// their elastic energy (J): ∫ Σ N n·v dt + E_el − E_el,0 (struct docs).
+    pub contact_normal_work_j: f64,
+    /// ∫ Σ N n·v dt, the elastic normal forces' work on the wheels (J).
+    normal_force_work_j: f64,
+    /// Those contacts' elastic energy Σ 0.4 K δ^2.5 at the first accepted
+    /// state (J).
+    initial_contact_elastic_j: f64,
     /// Time (s) and powers (W) at the last accepted state: torque,
-    /// references, creep, contact damping, dampers, element turning.
-    last: Option<(f64, [f64; 6])>,
+    /// references, creep, contact damping, dampers, element turning,
+    /// elastic normal forces.
+    last: Option<(f64, [f64; N_POWERS])>,
 }
+
+/// Number of powers of [`VehicleSystem::powers_w`].
+pub(super) const N_POWERS: usize = 7;
 
 impl EnergyLedger {
     /// The balance's residual (J): E − E0 − (W_torque + W_references +
-    /// W_turning − D_creep − D_contact − D_dampers); zero but for the
+    /// W_turning + W_normal − D_creep − D_contact − D_dampers); zero but for the
     /// integration and quadrature errors (struct docs).
     pub fn residual_j(&self) -> f64 {
         self.energy_j
             - self.initial_energy_j
-            - (self.axle_torque_work_j + self.reference_work_j + self.element_turning_work_j
+            - (self.axle_torque_work_j
+                + self.reference_work_j
+                + self.element_turning_work_j
+                + self.contact_normal_work_j
                 - self.creep_dissipation_j
                 - self.contact_damping_dissipation_j
                 - self.damper_dissipation_j)
     }
 
     /// Adds the powers `p` (W; order of `last`) at the accepted time `t_s`
-    /// (trapezoidal rule) and the energy there.
-    pub(super) fn add(&mut self, t_s: f64, p: [f64; 6], energy_j: f64) {
+    /// (trapezoidal rule), the energy there and the elastic energy of the
+    /// non-gradient contacts (J).
+    pub(super) fn add(
+        &mut self,
+        t_s: f64,
+        p: [f64; N_POWERS],
+        energy_j: f64,
+        contact_elastic_j: f64,
+    ) {
         match self.last {
-            None => self.initial_energy_j = energy_j,
+            None => {
+                self.initial_energy_j = energy_j;
+                self.initial_contact_elastic_j = contact_elastic_j;
+            }
             Some((t0, p0)) => {
                 let w = |k: usize| 0.5 * (p0[k] + p[k]) * (t_s - t0);
                 self.axle_torque_work_j += w(0);
@@ -82,8 +117,11 @@ impl EnergyLedger {
                 self.contact_damping_dissipation_j += w(3);
                 self.damper_dissipation_j += w(4);
                 self.element_turning_work_j += w(5);
+                self.normal_force_work_j += w(6);
             }
         }
+        self.contact_normal_work_j =
+            self.normal_force_work_j + contact_elastic_j - self.initial_contact_elastic_j;
         self.energy_j = energy_j;
         self.last = Some((t_s, p));
     }
@@ -119,7 +157,29 @@ impl VehicleSystem<'_> {
             let q = self.element_internal(idx);
             e += el.potential_energy_j(&el.evaluate(&a, &b, q).deflection_m, q);
         }
-        for snap in &self.snapshots {
+        e + self.contact_elastic_energy_j()
+    }
+
+    /// Elastic energy of the Hertz contacts at the last evaluated state,
+    /// Σ 0.4 K δ^2.5 (J), K the stiffness of each contact's current geometry
+    /// (part of [`Self::mechanical_energy_j`]).
+    pub fn contact_elastic_energy_j(&self) -> f64 {
+        self.elastic_energy_where_j(|_| true)
+    }
+
+    /// [`Self::contact_elastic_energy_j`] of the wheelsets whose contact
+    /// source's normal force is not the gradient of it
+    /// ([`super::ContactSource::normal_force_is_gradient`]) (J).
+    pub(super) fn non_gradient_elastic_energy_j(&self) -> f64 {
+        self.elastic_energy_where_j(|i| !self.sources[i].normal_force_is_gradient())
+    }
+
+    fn elastic_energy_where_j(&self, include: impl Fn(usize) -> bool) -> f64 {
+        let mut e = 0.0;
+        for (i, snap) in self.snapshots.iter().enumerate() {
+            if !include(i) {
+                continue;
+            }
             for f in snap.forces.iter().flatten().flatten() {
                 // δ from the elastic part of the normal force, N_el = K δ^1.5.
                 let k = f.tangential.hertz.stiffness_n_m15;
@@ -135,17 +195,36 @@ impl VehicleSystem<'_> {
     /// The non-conservative powers (W) at the last evaluated state, in the
     /// order of [`EnergyLedger`]: axle torques, references, creep
     /// dissipation, contact damping dissipation, damper dissipation, the
-    /// elements' work beyond their potential.
-    pub(super) fn powers_w(&self) -> [f64; 6] {
-        let mut p = [0.0; 6];
-        for snap in &self.snapshots {
+    /// elements' work beyond their potential, the elastic normal forces of
+    /// the non-gradient contacts (Σ N n·v at the wheel's material point).
+    pub(super) fn powers_w(&self) -> [f64; N_POWERS] {
+        let mut p = [0.0; N_POWERS];
+        for ((snap, st), source) in self.snapshots.iter().zip(&self.states).zip(&self.sources) {
             p[0] += snap.axle_torque_nm * snap.spin_rad_s;
-            for f in snap.forces.iter().flatten().flatten() {
-                let (c, slip) = (&f.tangential.creep, &f.tangential.creepages.slip);
-                p[2] -= c.fx_n * slip.longitudinal_m_s
-                    + c.fy_n * slip.lateral_m_s
-                    + c.mz_nm * slip.spin_rad_s;
-                p[3] += f.normal.damping_n * slip.penetration_rate_m_s;
+            let books_normal_work = !source.normal_force_is_gradient();
+            let omega = st.angular_velocity_global();
+            for (forces, cands) in snap.forces.iter().zip(&snap.contacts.candidates) {
+                for (f, c) in forces.iter().zip(cands) {
+                    let (Some(f), Some(c)) = (f, c) else {
+                        continue;
+                    };
+                    let (cr, slip) = (&f.tangential.creep, &f.tangential.creepages.slip);
+                    p[2] -= cr.fx_n * slip.longitudinal_m_s
+                        + cr.fy_n * slip.lateral_m_s
+                        + cr.mz_nm * slip.spin_rad_s;
+                    p[3] += f.normal.damping_n * slip.penetration_rate_m_s;
+                    if !books_normal_work {
+                        continue;
+                    }
+                    // The wheel's material point under the force.
+                    let v = material_point_velocity_m_s(
+                        &st.velocity_m_s,
+                        &omega,
+                        &st.position_m,
+                        &f.point_m,
+                    );
+                    p[6] += f.normal.elastic_n * c.normal.dot(&v);
+                }
             }
         }
         let vehicle = self.vehicle;

@@ -77,6 +77,19 @@
 //! that the recorder and [`super::VehicleSystem::mechanical_energy_j`]
 //! (0.4 K δ^2.5) work unchanged.
 //!
+//! # Energy
+//!
+//! The normal force is not the gradient of the elastic energy 0.4 K δ^2.5
+//! ([`super::VehicleSystem::mechanical_energy_j`]): n_c is tilted by δ in
+//! the cross-section while δ_act ignores the wheel point's sliding across
+//! the rail (the rail point follows it), so the lateral component
+//! −σ N sin δ does work on the lateral slip velocity of the wheel point
+//! (in steady curving V times the angle of attack; the contact point of a
+//! yawed wheelset is kept under the axle, not shifted along the rail), and
+//! K, q0, z_r, r and w change with y. The energy ledger books that work as
+//! the contact normal work (docs/reference/08-multibody.md §8.6;
+//! [`ContactSource::normal_force_is_gradient`] is false).
+//!
 //! # Settling
 //!
 //! At assembly ([`settle_imported`]) each wheel is placed so that the
@@ -231,6 +244,13 @@ impl ContactSource for ImportedContact {
             c,
             motion,
         )
+    }
+
+    /// The normal force along the tabulated normal with the penetration
+    /// measured under the wheel point is not the gradient of 0.4 K δ^2.5
+    /// (module docs, "Energy").
+    fn normal_force_is_gradient(&self) -> bool {
+        false
     }
 }
 

@@ -292,8 +292,9 @@ impl OdeSystem for VehicleSystem<'_> {
             .is_some_and(|f| f.load(Ordering::Relaxed));
         if self.ledger.is_some() {
             let (p, e) = (self.powers_w(), self.mechanical_energy_j());
+            let e_el = self.non_gradient_elastic_energy_j();
             if let Some(l) = &mut self.ledger {
-                l.add(t, p, e);
+                l.add(t, p, e, e_el);
             }
         }
         // Forwards: the vehicle reference or a wheelset near the far end;
