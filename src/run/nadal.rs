@@ -129,40 +129,28 @@ struct Windows {
 /// one ending at each sample once `window_m` is covered; `quotient[i]` is
 /// the sample's Y/Q when loaded (module docs for validity).
 fn sliding_windows(quotient: &[Option<f64>], distance_m: &[f64], window_m: f64) -> Windows {
-    let mut out = Windows::default();
+    let means = crate::run::curving::windows::sliding_means(quotient, distance_m, window_m);
     let Some(&start) = distance_m.first() else {
-        return out;
+        return Windows::default();
     };
-    let mut lo = 0;
-    let (mut sum, mut loaded) = (0.0, 0usize);
-    for (i, (&q, &d)) in quotient.iter().zip(distance_m).enumerate() {
-        if let Some(v) = q {
-            sum += v;
-            loaded += 1;
-        }
-        while lo < i && distance_m[lo] <= d - window_m {
-            if let Some(v) = quotient[lo] {
-                sum -= v;
-                loaded -= 1;
-            }
-            lo += 1;
-        }
-        // NaN distances never complete a window.
-        let covered = d - start >= window_m;
-        if !covered {
-            continue;
-        }
-        out.complete += 1;
-        let samples = i + 1 - lo;
-        if loaded >= MIN_LOADED_SAMPLES && loaded as f64 > MIN_LOADED_FRACTION * samples as f64 {
-            out.valid += 1;
-            let mean = sum / loaded as f64;
-            if out.best.is_none_or(|(b, _)| mean > b) {
-                out.best = Some((mean, i));
-            }
+    // NaN distances never complete a window.
+    let complete = distance_m[..means.len()]
+        .iter()
+        .filter(|&&d| d - start >= window_m)
+        .count() as u64;
+    let mut best: Option<(f64, usize)> = None;
+    for (i, mean) in means.iter().enumerate() {
+        if let Some(m) = *mean
+            && best.is_none_or(|(b, _)| m > b)
+        {
+            best = Some((m, i));
         }
     }
-    out
+    Windows {
+        complete,
+        valid: means.iter().flatten().count() as u64,
+        best,
+    }
 }
 
 /// Nadal's criterion for both wheels of a wheelset's series.
