@@ -3,6 +3,7 @@
 //! (`docs/reference/10-scene-files.md`, `docs/reference/11-vehicle-files.md`).
 
 pub mod choices;
+pub mod formulation;
 pub mod load;
 pub mod overrides;
 pub mod scene;

@@ -496,6 +496,10 @@ pub struct Scene {
     /// Changes to the settled initial state (`[perturbation]`, [`crate::config::load`]).
     #[serde(default)]
     pub perturbation: crate::config::load::PerturbationSection,
+    /// Published-formulation switches (`[formulation]`,
+    /// [`crate::config::formulation`]).
+    #[serde(default)]
+    pub formulation: crate::config::formulation::FormulationSection,
 }
 
 /// What the planner may choose (the planner, `docs/guide/speed-accuracy-tradeoff.md`).
@@ -779,6 +783,7 @@ impl Scene {
             );
         }
         c.validate_material()?;
+        self.formulation.validate(c.method)?;
         self.creep_law()?;
         ensure!(
             c.restitution > 0.0 && c.restitution <= 1.0,

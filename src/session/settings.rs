@@ -57,6 +57,7 @@ pub fn system_settings(
             ContactMethod::Imported(ImportedContactMethod {
                 tables: vec![table; vfile.wheelsets.len()],
                 shear_modulus_override_pa: scene.contact.shear_modulus_pa,
+                interpolation: scene.formulation.resolve().table_interpolation,
             })
         }
         ContactMethodKind::Online => ContactMethod::Online,
@@ -81,6 +82,7 @@ pub fn system_settings(
             ..ContactOptions::default()
         },
         method,
+        formulation: scene.formulation.resolve().equations,
         ..scene.motion_settings()
     };
     Ok(settings)

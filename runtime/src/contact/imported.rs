@@ -138,7 +138,7 @@ impl ImportedRow {
 
     /// Checks one row: every value finite; N0, q0, a, b, the rolling radius,
     /// the lateral position and C11, C22 > 0; |δ| < π/2.
-    fn check(&self) -> Result<(), String> {
+    pub(crate) fn check(&self) -> Result<(), String> {
         let names = ROW_COLUMNS;
         for (name, v) in names.iter().zip(self.to_values()) {
             if !v.is_finite() {

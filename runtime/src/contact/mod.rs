@@ -50,6 +50,7 @@
 mod candidate;
 mod geometry;
 pub mod imported;
+pub mod imported_lookup;
 mod model;
 pub mod nadal;
 mod newton;

@@ -55,6 +55,7 @@ use super::settings::ContactMethod;
 use super::table_contact::TableContact;
 use super::track_motion::TrackRelative;
 use super::vehicle::WheelsetSpec;
+use crate::contact::imported_lookup::ImportedLookup;
 use crate::contact::quasi_static::{Settled, Support, settle};
 use crate::contact::{Candidate, ContactError, ContactSolver, WheelsetContacts, WheelsetPose};
 use crate::forces::normal::ContactMemory;
@@ -201,9 +202,12 @@ impl ContactMethod {
                 m.tables
                     .iter()
                     .map(|t| {
-                        Box::new(ImportedContact::new(Arc::clone(t), g)) as Box<dyn ContactSource>
+                        let lookup = ImportedLookup::new(Arc::clone(t), m.interpolation)
+                            .map_err(|e| refuse(e.to_string()))?;
+                        Ok(Box::new(ImportedContact::with_lookup(lookup, g))
+                            as Box<dyn ContactSource>)
                     })
-                    .collect()
+                    .collect::<Result<_, _>>()?
             }
         })
     }
@@ -261,6 +265,7 @@ mod tests {
             ContactMethod::Imported(ImportedContactMethod {
                 tables: vec![imported_table(); n],
                 shear_modulus_override_pa: None,
+                interpolation: Default::default(),
             })
         };
         let heuristic = ContactForceSettings {

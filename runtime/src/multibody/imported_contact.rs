@@ -106,6 +106,7 @@ use nalgebra::Vector3;
 use super::contact_source::{ContactContext, ContactSource};
 use super::track_motion::{TrackRelative, track_rotation};
 use crate::contact::imported::{ImportedContactTable, ImportedRow, ImportedTableError};
+use crate::contact::imported_lookup::{ImportedLookup, ImportedRows, TableInterpolation};
 use crate::contact::quasi_static::Settled;
 use crate::contact::{
     Candidate, ContactError, Curvatures, SolveMethod, SurfaceParams, WheelsetContacts, WheelsetPose,
@@ -131,6 +132,9 @@ pub struct ImportedContactMethod {
     /// (E = 2.1e11 Pa divided by 2(1 − 0.27)); E/(2(1 + ν)) would give
     /// 8.27e10 Pa.
     pub shear_modulus_override_pa: Option<f64>,
+    /// How the tables' columns are read between rows (ours: linear;
+    /// DYTSI's: a natural cubic spline, [`TableInterpolation`]).
+    pub interpolation: TableInterpolation,
 }
 
 impl ImportedContactMethod {
@@ -181,7 +185,7 @@ impl ImportedContactMethod {
 /// are used, nor the hysteresis memory (that model has no damping).
 #[derive(Debug, Clone)]
 pub struct ImportedContact {
-    table: Arc<ImportedContactTable>,
+    table: ImportedLookup,
     /// Shear modulus G of the creep forces (Pa),
     /// [`ImportedContactMethod::shear_modulus_pa`].
     shear_modulus_pa: f64,
@@ -190,9 +194,15 @@ pub struct ImportedContact {
 }
 
 impl ImportedContact {
+    /// The source reading `table` linearly.
     pub fn new(table: Arc<ImportedContactTable>, shear_modulus_pa: f64) -> Self {
+        Self::with_lookup(ImportedLookup::Linear(table), shear_modulus_pa)
+    }
+
+    /// The source reading its table through `lookup`.
+    pub fn with_lookup(lookup: ImportedLookup, shear_modulus_pa: f64) -> Self {
         ImportedContact {
-            table,
+            table: lookup,
             shear_modulus_pa,
             rows: None,
         }
@@ -274,7 +284,11 @@ const TABLE_NAME: &str = "imported contact";
 const COORDINATE: &str =
     "wheelset lateral displacement (derailed: no contact beyond the table in that model)";
 
-fn table_error(e: ImportedTableError, y_m: f64, table: &ImportedContactTable) -> ContactError {
+fn table_error<T: ImportedRows + ?Sized>(
+    e: ImportedTableError,
+    y_m: f64,
+    table: &T,
+) -> ContactError {
     match e {
         ImportedTableError::OutOfRange { .. } => {
             let (min_m, max_m) = table.wheelset_range_m();
@@ -293,8 +307,8 @@ fn table_error(e: ImportedTableError, y_m: f64, table: &ImportedContactTable) ->
 /// The rows of both wheels `[left, right]` at lateral displacement `y_m`
 /// (the right wheel's at −y); out of the wheelset's range: a track-range
 /// error naming it (derailment in that model).
-pub fn wheel_rows(
-    table: &ImportedContactTable,
+pub fn wheel_rows<T: ImportedRows + ?Sized>(
+    table: &T,
     y_m: f64,
 ) -> Result<[ImportedRow; 2], ContactError> {
     let (lo, hi) = table.wheelset_range_m();
@@ -380,11 +394,11 @@ pub fn wheel_candidate(
 /// Both wheels' contacts (piece 0 of each wheel) of a wheelset at `pose`
 /// whose lateral displacement from the centreline is `lateral_m`, and the
 /// rows they used `[left, right]`.
-pub fn imported_contacts(
+pub fn imported_contacts<T: ImportedRows + ?Sized>(
     track: &TrackTables,
     pose: &WheelsetPose,
     lateral_m: f64,
-    table: &ImportedContactTable,
+    table: &T,
 ) -> Result<(WheelsetContacts, [ImportedRow; 2]), ContactError> {
     let rows = wheel_rows(table, lateral_m)?;
     let mut out = WheelsetContacts::default();
@@ -522,9 +536,9 @@ pub fn imported_force(
 ///   ⇒ φ = atan2(r_L − r_R, w_L + w_R) + asin((Z_L − Z_R)/√((w_L + w_R)² + (r_L − r_R)²))
 /// h = Z_L − w_L sin φ + r_L cos φ
 /// ```
-pub fn settle_imported(
+pub fn settle_imported<T: ImportedRows + ?Sized>(
     track: &TrackTables,
-    table: &ImportedContactTable,
+    table: &T,
     s_m: f64,
     y_m: f64,
     yaw_rad: f64,

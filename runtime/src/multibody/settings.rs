@@ -88,6 +88,9 @@ pub struct SystemSettings {
     pub derailment_lateral_m: f64,
     /// Gravity (m/s², acting along −Z).
     pub gravity_m_s2: f64,
+    /// Switchable choices of the equations of motion (ours by default;
+    /// [`super::formulation`]).
+    pub formulation: super::formulation::Formulation,
 }
 
 impl Default for SystemSettings {
@@ -105,6 +108,7 @@ impl Default for SystemSettings {
             s_start_m: 5.0,
             derailment_lateral_m: 0.05,
             gravity_m_s2: GRAVITY_M_S2,
+            formulation: Default::default(),
         }
     }
 }

@@ -14,6 +14,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use nalgebra::Vector3;
 
 use super::contact_source::ContactSource;
+use super::formulation::LongitudinalMotion;
 use super::track_motion::{SpeedRamp, TrackRelative};
 use super::vehicle::{End, VehicleModel};
 use crate::contact::{ContactSolver, WheelsetContacts};
@@ -262,6 +263,9 @@ impl OdeSystem for VehicleSystem<'_> {
                 &g,
                 &mut dydt[BodyState::slot(k)],
             );
+        }
+        if self.settings.formulation.longitudinal_motion == LongitudinalMotion::Imposed {
+            self.impose_longitudinal_motion(t, dydt)?;
         }
         let n = vehicle.body_state_len();
         if let Some(d) = dydt.get_mut(n..n + self.internal_rates.len()) {
