@@ -14,7 +14,10 @@ use anyhow::{Result, ensure};
 use serde::{Deserialize, Serialize};
 
 use runtime::contact::imported_lookup::TableInterpolation;
-use runtime::multibody::formulation::{Formulation, LongitudinalMotion};
+use runtime::multibody::formulation::{
+    ElementAxes, Formulation, GyroscopicMoments, LongitudinalMotion, RollMoment,
+};
+use runtime::multibody::imported_contact::ContactNormal;
 
 use super::choices::ContactMethodKind;
 
@@ -29,30 +32,117 @@ pub enum FormulationPreset {
     Published,
 }
 
-/// `table_interpolation`: how an imported table's columns are read between
-/// rows.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum TableInterpolationChoice {
-    /// Linear (ours).
-    Linear,
-    /// Natural cubic spline through each column (published).
-    CubicSpline,
+/// A switch: two sides, ours and the published one.
+trait Switch: Copy + PartialEq {
+    const OURS: Self;
+    const PUBLISHED: Self;
+    /// The switch set alone, else the preset's side.
+    fn pick(set: Option<Self>, published: bool) -> Self {
+        set.unwrap_or(if published {
+            Self::PUBLISHED
+        } else {
+            Self::OURS
+        })
+    }
 }
 
-/// `longitudinal_motion`: whether bodies move along the track under their
-/// forces.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum LongitudinalMotionChoice {
-    /// Free (ours).
-    Free,
-    /// Imposed at the references' speed (published: no longitudinal degree
-    /// of freedom).
-    Imposed,
+/// Declares a switch's config enum (snake_case in the file), its two sides
+/// and its runtime value.
+macro_rules! switch {
+    ($(#[$doc:meta])* $name:ident => $runtime:ty {
+        $(#[$od:meta])* $ours:ident = $rours:expr,
+        $(#[$pd:meta])* $published:ident = $rpublished:expr $(,)?
+    }) => {
+        $(#[$doc])*
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+        #[serde(rename_all = "snake_case")]
+        pub enum $name {
+            $(#[$od])* $ours,
+            $(#[$pd])* $published,
+        }
+
+        impl Switch for $name {
+            const OURS: Self = $name::$ours;
+            const PUBLISHED: Self = $name::$published;
+        }
+
+        impl From<$name> for $runtime {
+            fn from(c: $name) -> $runtime {
+                match c {
+                    $name::$ours => $rours,
+                    $name::$published => $rpublished,
+                }
+            }
+        }
+    };
 }
 
-/// The `[formulation]` section (module docs).
+switch! {
+    /// `table_interpolation`: how an imported table's columns are read
+    /// between rows.
+    TableInterpolationChoice => TableInterpolation {
+        /// Linear (ours).
+        Linear = TableInterpolation::Linear,
+        /// A natural cubic spline through each column (published).
+        CubicSpline = TableInterpolation::CubicSpline,
+    }
+}
+
+switch! {
+    /// `contact_normal`: whether an imported table's contact normal turns
+    /// with the wheelset's roll.
+    ContactNormalChoice => ContactNormal {
+        /// Fixed in the track frame (ours).
+        Track = ContactNormal::Track,
+        /// Turned by the wheelset's roll (published).
+        Rolled = ContactNormal::Rolled,
+    }
+}
+
+switch! {
+    /// `longitudinal_motion`: whether bodies move along the track under
+    /// their forces.
+    LongitudinalMotionChoice => LongitudinalMotion {
+        /// Free (ours).
+        Free = LongitudinalMotion::Free,
+        /// Imposed at the references' speed (published: no longitudinal
+        /// degree of freedom).
+        Imposed = LongitudinalMotion::Imposed,
+    }
+}
+
+switch! {
+    /// `element_axes`: the axes the suspension elements act along.
+    ElementAxesChoice => ElementAxes {
+        /// Body a's axes (ours).
+        Body = ElementAxes::Body,
+        /// The track frame (published).
+        Track = ElementAxes::Track,
+    }
+}
+
+switch! {
+    /// `gyroscopic`: the wheelsets' gyroscopic moments.
+    GyroscopicChoice => GyroscopicMoments {
+        /// Exact (ours).
+        Exact = GyroscopicMoments::Exact,
+        /// Euler's body-axis equations in the axle frame (published).
+        AxleFrameEuler = GyroscopicMoments::AxleFrameEuler,
+    }
+}
+
+switch! {
+    /// `roll_moment`: the arms of the contact forces' roll moment.
+    RollMomentChoice => RollMoment {
+        /// The whole arm (ours).
+        Full = RollMoment::Full,
+        /// Only the arm along the axle (published).
+        AxleArmOnly = RollMoment::AxleArmOnly,
+    }
+}
+
+/// The `[formulation]` section (module docs). Every switch left out takes
+/// the preset's side.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FormulationSection {
@@ -61,73 +151,109 @@ pub struct FormulationSection {
     #[serde(default)]
     pub table_interpolation: Option<TableInterpolationChoice>,
     #[serde(default)]
+    pub contact_normal: Option<ContactNormalChoice>,
+    #[serde(default)]
     pub longitudinal_motion: Option<LongitudinalMotionChoice>,
+    #[serde(default)]
+    pub element_axes: Option<ElementAxesChoice>,
+    #[serde(default)]
+    pub gyroscopic: Option<GyroscopicChoice>,
+    #[serde(default)]
+    pub roll_moment: Option<RollMomentChoice>,
 }
 
 /// Every switch resolved (preset, then the switches set alone).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ResolvedFormulation {
     pub table_interpolation: TableInterpolation,
+    pub contact_normal: ContactNormal,
     pub equations: Formulation,
 }
 
 impl FormulationSection {
-    fn published(&self) -> bool {
-        self.preset == FormulationPreset::Published
-    }
-
     /// The switches with the preset applied (module docs).
     pub fn resolve(&self) -> ResolvedFormulation {
-        let p = self.published();
-        let table_interpolation = match self.table_interpolation {
-            Some(TableInterpolationChoice::CubicSpline) => TableInterpolation::CubicSpline,
-            Some(TableInterpolationChoice::Linear) => TableInterpolation::Linear,
-            None if p => TableInterpolation::CubicSpline,
-            None => TableInterpolation::Linear,
-        };
-        let longitudinal_motion = match self.longitudinal_motion {
-            Some(LongitudinalMotionChoice::Imposed) => LongitudinalMotion::Imposed,
-            Some(LongitudinalMotionChoice::Free) => LongitudinalMotion::Free,
-            None if p => LongitudinalMotion::Imposed,
-            None => LongitudinalMotion::Free,
-        };
+        let p = self.preset == FormulationPreset::Published;
         ResolvedFormulation {
-            table_interpolation,
+            table_interpolation: Switch::pick(self.table_interpolation, p).into(),
+            contact_normal: Switch::pick(self.contact_normal, p).into(),
             equations: Formulation {
-                longitudinal_motion,
+                longitudinal_motion: Switch::pick(self.longitudinal_motion, p).into(),
+                element_axes: Switch::pick(self.element_axes, p).into(),
+                gyroscopic: Switch::pick(self.gyroscopic, p).into(),
+                roll_moment: Switch::pick(self.roll_moment, p).into(),
             },
         }
     }
 
     /// Checks the switches against the contact method: the imported
-    /// table's switches need an imported table (the preset applies them
-    /// only where they mean something).
+    /// table's switches, set alone to their published side, need an
+    /// imported table (the preset applies them only where they mean
+    /// something).
     pub fn validate(&self, method: ContactMethodKind) -> Result<()> {
-        ensure!(
-            method == ContactMethodKind::Imported
-                || self.table_interpolation != Some(TableInterpolationChoice::CubicSpline),
-            "[formulation] table_interpolation = \"cubic_spline\" reads an imported contact table: it needs [contact] method = \"imported\""
-        );
+        if method != ContactMethodKind::Imported {
+            for (set, key) in [
+                (
+                    self.table_interpolation == Some(TableInterpolationChoice::CubicSpline),
+                    "table_interpolation = \"cubic_spline\"",
+                ),
+                (
+                    self.contact_normal == Some(ContactNormalChoice::Rolled),
+                    "contact_normal = \"rolled\"",
+                ),
+            ] {
+                ensure!(
+                    !set,
+                    "[formulation] {key} applies to an imported contact table: it needs [contact] method = \"imported\""
+                );
+            }
+        }
         Ok(())
     }
 
-    /// One line for the run's summary: the switches that are not ours.
-    pub fn describe(&self) -> Option<String> {
+    /// The switches that are not ours, as `key = value` (empty: ours).
+    pub fn describe(&self) -> Vec<String> {
         let r = self.resolve();
+        let e = r.equations;
+        let ours = FormulationSection::default().resolve();
+        let o = ours.equations;
         let mut parts = Vec::new();
-        if r.table_interpolation != TableInterpolation::Linear {
-            parts.push(format!(
-                "table interpolation {}",
-                r.table_interpolation.name()
-            ));
-        }
-        if r.equations.longitudinal_motion != LongitudinalMotion::Free {
-            parts.push(format!(
-                "longitudinal motion {}",
-                r.equations.longitudinal_motion.name()
-            ));
-        }
-        (!parts.is_empty()).then(|| parts.join(", "))
+        let mut add = |differs: bool, key: &str, value: &str| {
+            if differs {
+                parts.push(format!("{key} = {value}"));
+            }
+        };
+        add(
+            r.table_interpolation != ours.table_interpolation,
+            "table_interpolation",
+            r.table_interpolation.name(),
+        );
+        add(
+            r.contact_normal != ours.contact_normal,
+            "contact_normal",
+            r.contact_normal.name(),
+        );
+        add(
+            e.longitudinal_motion != o.longitudinal_motion,
+            "longitudinal_motion",
+            e.longitudinal_motion.name(),
+        );
+        add(
+            e.element_axes != o.element_axes,
+            "element_axes",
+            e.element_axes.name(),
+        );
+        add(
+            e.gyroscopic != o.gyroscopic,
+            "gyroscopic",
+            e.gyroscopic.name(),
+        );
+        add(
+            e.roll_moment != o.roll_moment,
+            "roll_moment",
+            e.roll_moment.name(),
+        );
+        parts
     }
 }
 

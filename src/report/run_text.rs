@@ -25,6 +25,12 @@ impl RunSummary {
             self.mean_newton_iterations,
             self.cold_starts
         );
+        if !self.formulation.is_empty() {
+            s += &format!(
+                "  formulation (published switches): {}\n",
+                self.formulation.join(", ")
+            );
+        }
         s += &format!(
             "  {} samples in the results{}\n",
             self.output_samples,

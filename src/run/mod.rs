@@ -350,6 +350,15 @@ fn run_session(
             scene.contact.flange.to_string().into(),
         ),
         ("integrator".into(), scene.run.integrator.to_string().into()),
+        (
+            "formulation".into(),
+            if scene.formulation.describe().is_empty() {
+                "ours".to_string()
+            } else {
+                scene.formulation.describe().join("; ")
+            }
+            .into(),
+        ),
         ("speed_m_s".into(), scene.initial.speed_m_s.into()),
         ("track".into(), session.track_source.path.clone().into()),
         ("plan".into(), plan.to_text().into()),
@@ -400,6 +409,7 @@ fn run_session(
         plots: Vec::new(),
         creep_law: scene.contact.creep_law,
         contact_method: scene.contact.method,
+        formulation: scene.formulation.describe(),
         integrator: scene.run.integrator,
         speed_m_s: scene.initial.speed_m_s,
         simulated_time_s,

@@ -84,6 +84,9 @@ pub struct RunSummary {
     pub plots: Vec<String>,
     pub creep_law: CreepLawName,
     pub contact_method: ContactMethodKind,
+    /// The `[formulation]` switches that are not ours (`key = value`;
+    /// empty: ours).
+    pub formulation: Vec<String>,
     pub integrator: IntegratorKind,
     pub speed_m_s: f64,
     /// Simulated time (s), the wall time of the integration (s) and their

@@ -58,6 +58,7 @@ pub fn system_settings(
                 tables: vec![table; vfile.wheelsets.len()],
                 shear_modulus_override_pa: scene.contact.shear_modulus_pa,
                 interpolation: scene.formulation.resolve().table_interpolation,
+                normal: scene.formulation.resolve().contact_normal,
             })
         }
         ContactMethodKind::Online => ContactMethod::Online,

@@ -204,8 +204,10 @@ impl ContactMethod {
                     .map(|t| {
                         let lookup = ImportedLookup::new(Arc::clone(t), m.interpolation)
                             .map_err(|e| refuse(e.to_string()))?;
-                        Ok(Box::new(ImportedContact::with_lookup(lookup, g))
-                            as Box<dyn ContactSource>)
+                        Ok(
+                            Box::new(ImportedContact::with_lookup(lookup, g).with_normal(m.normal))
+                                as Box<dyn ContactSource>,
+                        )
                     })
                     .collect::<Result<_, _>>()?
             }
@@ -266,6 +268,7 @@ mod tests {
                 tables: vec![imported_table(); n],
                 shear_modulus_override_pa: None,
                 interpolation: Default::default(),
+                normal: Default::default(),
             })
         };
         let heuristic = ContactForceSettings {

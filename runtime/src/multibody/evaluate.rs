@@ -25,6 +25,9 @@ use nalgebra::{Matrix3, Vector3};
 
 use super::contact_source::ContactContext;
 use super::error::DynamicsError;
+use super::formulation::{
+    ElementAxes, GyroscopicMoments, RollMoment, axle_frame_euler_correction, roll_arm_correction,
+};
 use super::settings::BRAKE_STICK_SPEED_M_S;
 use super::system::{REFERENCE_DS_M, VehicleSystem};
 use super::track_motion::{project_s, reference_anchor, track_relative, track_rotation};
@@ -54,14 +57,13 @@ impl VehicleSystem<'_> {
                 }
             })?;
             self.s_guess[i] = s;
-            let up = track_rotation(c, s)
-                .map_err(|source| DynamicsError::Track {
-                    what: format!("wheelset '{}'", w.name),
-                    t_s: t,
-                    source,
-                })?
-                .column(2)
-                .into_owned();
+            let frame = track_rotation(c, s).map_err(|source| DynamicsError::Track {
+                what: format!("wheelset '{}'", w.name),
+                t_s: t,
+                source,
+            })?;
+            let up = frame.column(2).into_owned();
+            let roll_axis = frame.column(0).into_owned();
             let rotation = st.rotation();
             let axle = rotation.column(1).into_owned();
             let pose = WheelsetPose::from_body(s, st.position_m, axle, up);
@@ -129,10 +131,27 @@ impl VehicleSystem<'_> {
                     if let Some(f) = f {
                         wrench.add_force_at(&st.position_m, &f.point_m, &f.force_on_wheel_n);
                         wrench.add_moment(&f.moment_on_wheel_nm);
+                        if self.settings.formulation.roll_moment == RollMoment::AxleArmOnly {
+                            wrench.add_moment(&roll_arm_correction(
+                                &st.position_m,
+                                &axle,
+                                &roll_axis,
+                                &f.point_m,
+                                &f.force_on_wheel_n,
+                            ));
+                        }
                         *pending = f.normal.next_memory;
                         *force_slot = Some(f);
                     }
                 }
+            }
+            if self.settings.formulation.gyroscopic == GyroscopicMoments::AxleFrameEuler {
+                wrench.add_moment(&axle_frame_euler_correction(
+                    &rotation,
+                    &w.body.inertia_kg_m2,
+                    &omega,
+                    &axle,
+                ));
             }
             // Axle torque: drive (constant) and friction brake (module docs
             // of `SystemSettings::axle_brake_torque_nm`), about the axle.
@@ -180,13 +199,49 @@ impl VehicleSystem<'_> {
             self.internal.copy_from_slice(q);
         }
         let ground = Anchor::fixed(Vector3::zeros(), Matrix3::identity());
+        // Element axes of the published formulation: the track frame at
+        // each body's nominal station (`ElementAxes::Track`); references
+        // already have those axes.
+        let track_axes: Option<Vec<Anchor>> =
+            if self.settings.formulation.element_axes == ElementAxes::Track {
+                let speed = self.speed_at_m_s(t);
+                let stations = vehicle
+                    .wheelsets
+                    .iter()
+                    .map(|w| (w.name.as_str(), w.x_m))
+                    .chain(vehicle.bodies.iter().map(|b| (b.name.as_str(), b.cg_m.x)));
+                let mut axes = Vec::with_capacity(n_bodies);
+                for (name, x) in stations {
+                    axes.push(
+                        reference_anchor(
+                            c,
+                            s_vehicle,
+                            &Vector3::new(x, 0.0, 0.0),
+                            speed,
+                            REFERENCE_DS_M,
+                        )
+                        .map_err(|source| DynamicsError::Track {
+                            what: format!("the track axes of '{name}'"),
+                            t_s: t,
+                            source,
+                        })?,
+                    );
+                }
+                Some(axes)
+            } else {
+                None
+            };
         for (idx, (e, spec)) in self.elements.iter().zip(&vehicle.elements).enumerate() {
             let ia = self.anchor_index(spec.a);
             let ib = self.anchor_index(spec.b);
             let a = ia.map_or(ground, |k| self.anchors[k]);
             let b = ib.map_or(ground, |k| self.anchors[k]);
+            let axes = match (&track_axes, ia) {
+                (Some(axes), Some(k)) if k < n_bodies => Some(&axes[k]),
+                _ => None,
+            };
             let (start, len) = (self.internal_offsets[idx], e.internal_len());
-            let f = e.evaluate(&a, &b, &self.internal[start..start + len]);
+            let f = e.evaluate_along(&a, &b, &self.internal[start..start + len], axes);
             self.internal_rates[start..start + len].copy_from_slice(&f.internal_rate_m_s[..len]);
             if let Some(k) = ia.filter(|&k| k < n_bodies) {
                 let cg = self.states[k].position_m;

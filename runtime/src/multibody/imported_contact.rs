@@ -135,6 +135,33 @@ pub struct ImportedContactMethod {
     /// How the tables' columns are read between rows (ours: linear;
     /// DYTSI's: a natural cubic spline, [`TableInterpolation`]).
     pub interpolation: TableInterpolation,
+    /// Whether the contact normal turns with the wheelset's roll (ours: it
+    /// does not; DYTSI's: it does, [`ContactNormal`]).
+    pub normal: ContactNormal,
+}
+
+/// The contact normal of an imported table's contact.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ContactNormal {
+    /// The rail's normal at the contact, fixed in the track frame: the
+    /// track-plane normal tilted by the table's contact angle δ (ours,
+    /// module docs "Geometry").
+    #[default]
+    Track,
+    /// That normal turned about the track's tangent by the wheelset's roll
+    /// φ: tilted by δ + φ on the left wheel and δ − φ on the right (DYTSI's
+    /// `WheelSetComponent`, which tilts the contact frame and the
+    /// penetration's direction by the roll).
+    Rolled,
+}
+
+impl ContactNormal {
+    pub fn name(self) -> &'static str {
+        match self {
+            ContactNormal::Track => "track",
+            ContactNormal::Rolled => "rolled",
+        }
+    }
 }
 
 impl ImportedContactMethod {
@@ -191,6 +218,8 @@ pub struct ImportedContact {
     shear_modulus_pa: f64,
     /// The rows `[left, right]` of the last contacts.
     rows: Option<[ImportedRow; 2]>,
+    /// The contact normal's rule.
+    normal: ContactNormal,
 }
 
 impl ImportedContact {
@@ -205,7 +234,13 @@ impl ImportedContact {
             table: lookup,
             shear_modulus_pa,
             rows: None,
+            normal: ContactNormal::Track,
         }
+    }
+
+    /// The same source with the contact normal's rule `normal`.
+    pub fn with_normal(self, normal: ContactNormal) -> Self {
+        ImportedContact { normal, ..self }
     }
 }
 
@@ -228,7 +263,13 @@ impl ContactSource for ImportedContact {
         pose: &WheelsetPose,
         relative: &TrackRelative,
     ) -> Result<WheelsetContacts, ContactError> {
-        let (contacts, rows) = imported_contacts(ctx.track, pose, relative.lateral_m, &self.table)?;
+        let (contacts, rows) = imported_contacts_with(
+            ctx.track,
+            pose,
+            relative.lateral_m,
+            &self.table,
+            self.normal,
+        )?;
         self.rows = Some(rows);
         Ok(contacts)
     }
@@ -337,6 +378,7 @@ pub fn wheel_candidate(
     pose: &WheelsetPose,
     side: Side,
     row: &ImportedRow,
+    normal_rule: ContactNormal,
 ) -> Result<Candidate, ContactError> {
     let s = pose.s_track_m;
     let c = &track.centerline;
@@ -354,7 +396,13 @@ pub fn wheel_candidate(
         pose.position + eta * (sg * row.wheel_lateral_m) - zeta * row.rolling_radius_m;
     let d = wheel_point - origin;
     let rail_point = origin + t * d.dot(&t) + n * d.dot(&n) + b * row.rail_vertical_m;
-    let (sin_d, cos_d) = row.contact_angle_rad.sin_cos();
+    // The wheelset's roll φ about the tangent (+ lifts the left wheel):
+    // sin φ = η·b.
+    let tilt = match normal_rule {
+        ContactNormal::Track => row.contact_angle_rad,
+        ContactNormal::Rolled => row.contact_angle_rad + sg * eta.dot(&b).clamp(-1.0, 1.0).asin(),
+    };
+    let (sin_d, cos_d) = tilt.sin_cos();
     let normal = b * cos_d - n * (sg * sin_d);
     let tangent = (t - normal * t.dot(&normal)).normalize();
     let lateral = normal.cross(&tangent);
@@ -400,11 +448,22 @@ pub fn imported_contacts<T: ImportedRows + ?Sized>(
     lateral_m: f64,
     table: &T,
 ) -> Result<(WheelsetContacts, [ImportedRow; 2]), ContactError> {
+    imported_contacts_with(track, pose, lateral_m, table, ContactNormal::Track)
+}
+
+/// [`imported_contacts`] with the contact normal's rule `normal`.
+pub fn imported_contacts_with<T: ImportedRows + ?Sized>(
+    track: &TrackTables,
+    pose: &WheelsetPose,
+    lateral_m: f64,
+    table: &T,
+    normal: ContactNormal,
+) -> Result<(WheelsetContacts, [ImportedRow; 2]), ContactError> {
     let rows = wheel_rows(table, lateral_m)?;
     let mut out = WheelsetContacts::default();
     for side in Side::BOTH {
         let k = side_index(side);
-        out.candidates[k][0] = Some(wheel_candidate(track, pose, side, &rows[k])?);
+        out.candidates[k][0] = Some(wheel_candidate(track, pose, side, &rows[k], normal)?);
     }
     Ok((out, rows))
 }

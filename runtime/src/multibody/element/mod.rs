@@ -324,11 +324,29 @@ impl SpringDamper {
     /// with the internal states `internal_m` (the series strokes q,
     /// [`Self::internal_len`] values; missing ones are taken as zero).
     pub fn evaluate(&self, a: &Anchor, b: &Anchor, internal_m: &[f64]) -> ElementForce {
+        self.evaluate_along(a, b, internal_m, None)
+    }
+
+    /// [`Self::evaluate`] with the stiffness, damping and preload acting
+    /// along `axes` instead of anchor a's (only their rotation and angular
+    /// velocity are used; [`super::formulation::ElementAxes::Track`]).
+    /// Deflections and rates are then measured in those axes; the
+    /// attachment points still move with their anchors.
+    pub fn evaluate_along(
+        &self,
+        a: &Anchor,
+        b: &Anchor,
+        internal_m: &[f64],
+        axes: Option<&Anchor>,
+    ) -> ElementForce {
+        let (rotation, omega) = axes.map_or((a.rotation, a.angular_velocity_rad_s), |f| {
+            (f.rotation, f.angular_velocity_rad_s)
+        });
         let point_a_m = a.point_position(&self.point_a_m);
         let point_b_m = b.point_position(&self.point_b_m);
-        let rt = a.rotation.transpose();
+        let rt = rotation.transpose();
         let delta = rt * (point_b_m - point_a_m);
-        let w_local = rt * a.angular_velocity_rad_s;
+        let w_local = rt * omega;
         let rate_m_s = rt * (b.point_velocity(&self.point_b_m) - a.point_velocity(&self.point_a_m))
             - w_local.cross(&delta);
         let deflection_m = delta - self.reference_offset_m;
@@ -355,7 +373,7 @@ impl SpringDamper {
             }
         }
         ElementForce {
-            force_on_b_n: a.rotation * f_local,
+            force_on_b_n: rotation * f_local,
             point_a_m,
             point_b_m,
             deflection_m,
