@@ -5,6 +5,7 @@ pub mod bifurcation;
 pub mod compare_tables;
 pub mod contact;
 pub mod creep_curves;
+// pub mod cross_code; (after the i15-hunt merge)
 pub mod critical_speed;
 pub mod run_difference;
 pub mod tradeoff;

@@ -467,6 +467,33 @@ mod tests {
     }
 
     #[test]
+    fn along_other_axes_the_preload_keeps_their_direction_when_body_a_rolls() {
+        // A preloaded vertical spring, body a rolled by 0.1 rad, b placed
+        // where the undeflected spring puts it: along a's axes the preload
+        // tilts with a (a lateral component −sin(0.1)·3e4 on b), along the
+        // track axes it stays vertical.
+        let e = SpringDamper {
+            point_a_m: Vector3::zeros(),
+            point_b_m: Vector3::zeros(),
+            stiffness_n_m: [0.0, 0.0, 1e5],
+            damping_n_s_m: [0.0; 3],
+            preload_n: Vector3::new(0.0, 0.0, 3e4),
+            reference_offset_m: Vector3::zeros(),
+            laws: Default::default(),
+        };
+        let a = moving([0.0; 3], [0.1, 0.0, 0.0], [0.0; 3], [0.0; 3]);
+        let b = moving([0.0; 3], [0.0; 3], [0.0; 3], [0.0; 3]);
+        let body = e.evaluate(&a, &b, &[]);
+        assert!((body.force_on_b_n.y - (-(0.1_f64).sin() * 3e4)).abs() < 1e-9);
+        let track = Anchor::fixed(Vector3::zeros(), Matrix3::identity());
+        let along = e.evaluate_along(&a, &b, &[], Some(&track));
+        assert!(along.force_on_b_n.y.abs() < 1e-12, "{}", along.force_on_b_n);
+        assert!((along.force_on_b_n.z - 3e4).abs() < 1e-9);
+        // Without other axes the two agree.
+        assert_eq!(e.evaluate_along(&a, &b, &[], None), body);
+    }
+
+    #[test]
     fn validate_names_the_rule() {
         assert_eq!(element().validate(), Ok(()));
         let mut e = element();
