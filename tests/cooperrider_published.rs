@@ -157,7 +157,12 @@ fn the_published_preloads_carry_the_weight() {
     solved.resolve().unwrap_or_else(|e| panic!("{e:#}"));
     let s = solved.statics.as_ref().unwrap();
     assert_eq!(s.mode, PreloadMode::Solve);
-    for ((e, a), b) in v.elements.iter().zip(v.element_preloads_n()).zip(&s.preloads_n) {
+    for ((e, a), b) in v
+        .elements
+        .iter()
+        .zip(v.element_preloads_n())
+        .zip(&s.preloads_n)
+    {
         for k in 0..3 {
             assert!(
                 (a[k] - b[k]).abs() < 1e-9 * secondary_n,
