@@ -16,7 +16,8 @@ const SCENE: &str = "scenes/cooperrider_published.toml";
 
 // DYTSI's numbers (CooperriderOrthogonalModel::setupModel; XML model block).
 const CAR_KG: f64 = 44_388.0;
-const CAR_INERTIA: [f64; 3] = [2.80e5, 5.0e5, 5.0e5];
+/// DYTSI's car body as implemented: its pitch equation divides by Ix.
+const CAR_INERTIA: [f64; 3] = [2.80e5, 2.80e5, 5.0e5];
 const FRAME_KG: f64 = 2_918.9;
 const FRAME_INERTIA: [f64; 3] = [6_780.0; 3];
 const WHEELSET_KG: f64 = 1_022.0;
