@@ -272,10 +272,13 @@ pub struct CriticalSpeedArgs {
     /// Deceleration of the ramp (m/s²).
     #[arg(long, default_value_t = 0.5, value_name = "A")]
     pub ramp_deceleration: f64,
+    /// Ramp: the nonlinear critical speed where every wheelset's cycle has died (all) or the leading wheelset's (leading).
+    #[arg(long, default_value = "all", value_name = "C")]
+    pub criterion: crate::studies::cycle_death::HuntingCriterion,
     /// Set a scene entry for every run (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
-    /// Output directory (rates.csv, rates.png, runs/).
+    /// Output directory (rates.csv, rates.png, ramp_wheelsets.csv, runs/).
     #[arg(long, value_name = "DIR", default_value = "critical_speed")]
     pub out: PathBuf,
     /// Print JSON.

@@ -277,6 +277,7 @@ fn critical_speed_command(args: &CriticalSpeedArgs) -> Result<()> {
         out_dir: args.out.clone(),
         skip_s: args.skip_s,
         ramp_deceleration_m_s2: args.ramp_deceleration,
+        criterion: args.criterion,
     };
     let stop = preproc::cli::stop_on_signal(false);
     let quiet = args.json;

@@ -6,5 +6,7 @@ pub mod compare_tables;
 pub mod contact;
 pub mod creep_curves;
 pub mod critical_speed;
+pub mod cycle_death;
 pub mod run_difference;
+pub mod step_dwell;
 pub mod tradeoff;
