@@ -133,6 +133,10 @@ pub fn run(cli: Cli) -> Result<()> {
             max,
             step,
             ramp_deceleration,
+            continuation,
+            speed_step,
+            dwell_s,
+            criterion,
             jobs,
             set,
             out,
@@ -148,6 +152,10 @@ pub fn run(cli: Cli) -> Result<()> {
                 jobs: jobs
                     .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
                 out_dir: out,
+                criterion,
+                continuations: continuation,
+                dwell_step_m_s: speed_step,
+                dwell_s,
             };
             let stop = preproc::cli::stop_on_signal(false);
             let mut b = crate::studies::bifurcation::bifurcation(&scene, &settings, stop)?;
