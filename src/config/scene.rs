@@ -437,7 +437,9 @@ impl InitialSection {
             "[initial] speed_profile goes without acceleration_m_s2, deceleration_m_s2 and final_speed_m_s (the schedule gives the whole motion): remove them or the profile"
         );
         let Some([t0, v0]) = knots.first().copied() else {
-            bail!("[initial] speed_profile is empty: give knots [t_s, speed_m_s], the first at t = 0")
+            bail!(
+                "[initial] speed_profile is empty: give knots [t_s, speed_m_s], the first at t = 0"
+            )
         };
         ensure!(
             t0 == 0.0,

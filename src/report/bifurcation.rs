@@ -39,10 +39,7 @@ impl Bifurcation {
         let mut csv = String::from("branch,wheelset,speed_m_s,amplitude_mm\n");
         for (name, pts) in self.branches() {
             for p in pts.iter() {
-                csv += &format!(
-                    "{name},{},{},{}\n",
-                    p.wheelset, p.speed_m_s, p.amplitude_mm
-                );
+                csv += &format!("{name},{},{},{}\n", p.wheelset, p.speed_m_s, p.amplitude_mm);
             }
         }
         csv
@@ -88,9 +85,9 @@ impl Bifurcation {
         for (i, name) in &names {
             let ramp = of(&self.ramp_down, *i);
             if !ramp.is_empty() {
-                chart.series.push(
-                    Series::points(format!("ramp-down peaks, {name}"), ramp).with_colour(*i),
-                );
+                chart
+                    .series
+                    .push(Series::points(format!("ramp-down peaks, {name}"), ramp).with_colour(*i));
             }
             let dwell = of(&self.step_dwell, *i);
             if !dwell.is_empty() {
@@ -115,7 +112,8 @@ impl Bifurcation {
                 chart.series.push(
                     Series::line(
                         format!(
-                            "{name}: every cycle dead at {v:.2} m/s ('{who}' last, criterion {})",
+                            "{}: every cycle dead at {v:.2} m/s ('{who}' last, criterion {})",
+                            name.replace('_', "-"),
                             d.criterion
                         ),
                         vec![(v, 0.0), (v, top)],
@@ -225,7 +223,10 @@ mod tests {
         assert!(d.lines().nth(2).unwrap().ends_with(",died,true"), "{d}");
         assert!(dir.join("bifurcation.png").exists());
         let t = b.to_text();
-        assert!(t.contains("wheelset 0 'front': saturated 5.00 mm, cycle dies at 79."), "{t}");
+        assert!(
+            t.contains("wheelset 0 'front': saturated 5.00 mm, cycle dies at 79."),
+            "{t}"
+        );
         assert!(t.contains("criterion all: hunts last 'rear'"), "{t}");
         assert!(t.contains("warning: a note"), "{t}");
         let _ = std::fs::remove_dir_all(&dir);

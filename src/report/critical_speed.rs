@@ -26,13 +26,20 @@ impl CycleDeaths {
                 w.index, w.wheelset, w.saturated_mm
             );
         }
-        if let Some(name) = &self.last_hunting {
-            s += &format!(
-                "{indent}criterion {}: hunts last '{name}'{}\n",
-                self.criterion,
-                self.speed_m_s
-                    .map_or(String::new(), |v| format!(", every cycle considered dead at {v:.2} m/s"))
-            );
+        match (&self.last_hunting, self.speed_m_s) {
+            (Some(name), Some(v)) => {
+                s += &format!(
+                    "{indent}criterion {}: hunts last '{name}', every cycle considered dead at {v:.2} m/s\n",
+                    self.criterion
+                )
+            }
+            (Some(name), None) => {
+                s += &format!(
+                    "{indent}criterion {}: '{name}' still hunts at the lowest speed\n",
+                    self.criterion
+                )
+            }
+            _ => {}
         }
         s
     }

@@ -217,7 +217,8 @@ fn run_and_write(
     stop: Arc<AtomicBool>,
     what: &str,
 ) -> Result<(runtime::results::RunResults, Result<()>)> {
-    let outcome = run_scene(s, &mut |_| {}, Some(stop)).with_context(|| format!("the {what} run"))?;
+    let outcome =
+        run_scene(s, &mut |_| {}, Some(stop)).with_context(|| format!("the {what} run"))?;
     runtime::io::schema::write_results(output, &outcome.results)
         .with_context(|| format!("writing the {what} run {}", output.display()))?;
     let (results, summary) = outcome.into_parts(&output.display().to_string());
@@ -497,10 +498,15 @@ mod tests {
             edit(&mut s);
             s.validate().unwrap_err().to_string()
         };
-        assert!(err(|s| s.continuations.push(Continuation::Ramp)).contains("'ramp' is given twice"));
+        assert!(
+            err(|s| s.continuations.push(Continuation::Ramp)).contains("'ramp' is given twice")
+        );
         assert!(err(|s| s.continuations.clear()).contains("at least one continuation"));
         assert!(err(|s| s.dwell_s = 0.01).contains("check the unit"));
         assert!(err(|s| s.dwell_step_m_s = 0.0).contains("--speed-step"));
-        assert_eq!("step-dwell".parse::<Continuation>(), Ok(Continuation::StepDwell));
+        assert_eq!(
+            "step-dwell".parse::<Continuation>(),
+            Ok(Continuation::StepDwell)
+        );
     }
 }

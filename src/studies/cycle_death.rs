@@ -91,7 +91,12 @@ pub struct WheelsetDeath {
 /// The death of one wheelset's cycle from its peaks in time order: it
 /// survives when its last large peak is the last peak of all (nothing
 /// smaller follows: the run ended first) or lies at `lowest_m_s` or below.
-pub fn wheelset_death(wheelset: &str, index: usize, peaks: &[Peak], lowest_m_s: f64) -> WheelsetDeath {
+pub fn wheelset_death(
+    wheelset: &str,
+    index: usize,
+    peaks: &[Peak],
+    lowest_m_s: f64,
+) -> WheelsetDeath {
     let mut amps: Vec<f64> = peaks.iter().map(|p| p.amplitude_m).collect();
     amps.sort_by(f64::total_cmp);
     let saturated = amps
@@ -162,7 +167,11 @@ pub fn cycle_deaths(
     let last = considered
         .iter()
         .filter(|w| w.fate == CycleFate::Died)
-        .min_by(|a, b| a.death_m_s.unwrap_or(0.0).total_cmp(&b.death_m_s.unwrap_or(0.0)));
+        .min_by(|a, b| {
+            a.death_m_s
+                .unwrap_or(0.0)
+                .total_cmp(&b.death_m_s.unwrap_or(0.0))
+        });
     let (speed, who, note) = if considered.is_empty() {
         let whose = match criterion {
             HuntingCriterion::All => "of any wheelset",
@@ -239,10 +248,7 @@ pub fn ramp_deaths(
         .enumerate()
         .map(|(i, (w, p))| wheelset_death(&w.name, i, p, lowest_m_s))
         .collect();
-    (
-        cycle_deaths(deaths, criterion, top_m_s, lowest_m_s),
-        peaks,
-    )
+    (cycle_deaths(deaths, criterion, top_m_s, lowest_m_s), peaks)
 }
 
 #[cfg(test)]
@@ -258,7 +264,11 @@ pub(crate) mod tests {
         for i in 0..10_000 {
             let t = i as f64 * 0.01;
             let y = |death: f64| {
-                let decay = if t > death { (-3.0 * (t - death)).exp() } else { 1.0 };
+                let decay = if t > death {
+                    (-3.0 * (t - death)).exp()
+                } else {
+                    1.0
+                };
                 0.005 * decay * (std::f64::consts::TAU * 3.0 * t).sin()
             };
             let sample = |death| WheelsetSample {
@@ -301,7 +311,10 @@ pub(crate) mod tests {
         assert_eq!(all.speed_m_s, None);
         assert_eq!(all.wheelsets[1].fate, CycleFate::Survives);
         assert!(
-            all.note.as_deref().unwrap().contains("'rear' survives down to 50 m/s"),
+            all.note
+                .as_deref()
+                .unwrap()
+                .contains("'rear' survives down to 50 m/s"),
             "{all:?}"
         );
         let (leading, _) = ramp_deaths(&r, 100.0, 50.0, 0.5, HuntingCriterion::Leading);

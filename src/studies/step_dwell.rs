@@ -14,7 +14,9 @@ use serde::Serialize;
 
 use crate::config::Variation;
 use crate::config::scene::LoadedScene;
-use crate::studies::cycle_death::{CycleDeaths, HuntingCriterion, Peak, cycle_deaths, wheelset_death};
+use crate::studies::cycle_death::{
+    CycleDeaths, HuntingCriterion, Peak, cycle_deaths, wheelset_death,
+};
 
 /// One dwell of the schedule.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -196,10 +198,12 @@ pub fn variations(
         sched
             .knots
             .iter()
-            .map(|[t_s, speed_m_s]| runtime::multibody::speed_profile::SpeedKnot {
-                t_s: *t_s,
-                speed_m_s: *speed_m_s,
-            })
+            .map(
+                |[t_s, speed_m_s]| runtime::multibody::speed_profile::SpeedKnot {
+                    t_s: *t_s,
+                    speed_m_s: *speed_m_s,
+                },
+            )
             .collect(),
     );
     let duration = sched.duration_s();
@@ -232,7 +236,10 @@ pub fn variations(
     }
     out.extend(Variation::track_inputs_removed(&scene.scene));
     let note = straight_step(scene, length).map(|(step, note)| {
-        out.push(Variation::Set("track.step_m".into(), toml::Value::Float(step)));
+        out.push(Variation::Set(
+            "track.step_m".into(),
+            toml::Value::Float(step),
+        ));
         note
     });
     Ok((out, note))
@@ -257,8 +264,11 @@ mod tests {
                 [32.0, 1.0]
             ]
         );
-        let spans: Vec<(f64, f64, f64)> =
-            s.dwells.iter().map(|d| (d.speed_m_s, d.from_s, d.to_s)).collect();
+        let spans: Vec<(f64, f64, f64)> = s
+            .dwells
+            .iter()
+            .map(|d| (d.speed_m_s, d.from_s, d.to_s))
+            .collect();
         assert_eq!(
             spans,
             vec![(2.0, 0.0, 10.0), (1.5, 11.0, 21.0), (1.0, 22.0, 32.0)]

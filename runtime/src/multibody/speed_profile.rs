@@ -63,7 +63,11 @@ impl SpeedSchedule {
             return None;
         }
         // The last knot with t_k <= t.
-        Some(self.knots.partition_point(|k| k.t_s <= t_s).saturating_sub(1))
+        Some(
+            self.knots
+                .partition_point(|k| k.t_s <= t_s)
+                .saturating_sub(1),
+        )
     }
 
     /// a_k (m/s²), the rate of segment k.
