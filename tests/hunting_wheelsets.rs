@@ -10,9 +10,12 @@ use common::*;
 
 const SCENE: &str = "scenes/cooperrider_straight.toml";
 
-/// `sim critical-speed --method ramp` from 75 to 55 m/s at 1 m/s², started
+/// `sim critical-speed --method ramp` from 75 to 48 m/s at 1 m/s², started
 /// 6 mm off centre (a cycle at 75 m/s: above the nonlinear critical speed
-/// of about 58 m/s, tests/cooperrider.rs).
+/// of about 58 m/s, tests/cooperrider.rs). Measured (2026-11-26): the front
+/// bogie's cycles die at 58.20 and 58.18 m/s, the rear bogie's at 54.77
+/// and 54.75 m/s (at 1 m/s² the rear bogie's cycle is still at a third of
+/// its amplitude at 55 m/s); 7 s wall for each run in the dev profile.
 fn ramp(dir: &std::path::Path, criterion: &str) -> serde_json::Value {
     let o = run(sim()
         .arg("critical-speed")
@@ -21,7 +24,7 @@ fn ramp(dir: &std::path::Path, criterion: &str) -> serde_json::Value {
             "--method",
             "ramp",
             "--min",
-            "55",
+            "48",
             "--max",
             "75",
             "--ramp-deceleration",
@@ -56,13 +59,16 @@ fn every_wheelset_s_death_speed_and_the_last_to_hunt() {
         })
         .collect();
     for v in &deaths {
-        assert!((55.0..75.0).contains(v), "{deaths:?}");
+        assert!((48.0..75.0).contains(v), "{deaths:?}");
     }
     let lowest = deaths.iter().copied().fold(f64::INFINITY, f64::min);
     assert_eq!(r["speed_m_s"].as_f64(), Some(lowest), "{d}");
     let last = d["last_hunting_index"].as_u64().unwrap() as usize;
     assert_eq!(deaths[last], lowest);
     assert_eq!(d["last_hunting"], ws[last]["wheelset"]);
+    // The trailing bogie hunts last, well below the leading wheelset.
+    assert!(last >= 2, "{d}");
+    assert!(deaths[0] > lowest + 1.0, "{deaths:?}");
     let rows = std::fs::read_to_string(dir.join("all").join("ramp_wheelsets.csv")).unwrap();
     assert_eq!(rows.lines().count(), 5, "{rows}");
     assert!(rows.contains(&format!(",{},", ws[last]["wheelset"].as_str().unwrap())));
