@@ -111,7 +111,8 @@ pub fn wheelset_death(
     // A cycle whose last large peak is the run's last peak, or lies at the
     // lowest speed, has not died within the run.
     let (fate, death) = match last {
-        _ if !(saturated > MIN_CYCLE_M) => (CycleFate::NoCycle, None),
+        // (A NaN amplitude is no cycle either.)
+        _ if saturated.is_nan() || saturated <= MIN_CYCLE_M => (CycleFate::NoCycle, None),
         Some((k, p)) if k + 1 < peaks.len() && p.speed_m_s > lowest_m_s + 1e-9 => {
             (CycleFate::Died, Some(*p))
         }
