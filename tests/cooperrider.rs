@@ -398,10 +398,12 @@ fn nonlinear_critical_speed_and_bifurcation_diagram() {
         .arg(dir.join("bifurcation")));
     assert!(o.status.success(), "{}", stderr(&o));
     let b: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("json");
+    // The leading wheelset's points (the up-scan lists every wheelset).
     let amp: Vec<(f64, f64)> = b["up_scan"]
         .as_array()
         .unwrap()
         .iter()
+        .filter(|p| p["wheelset_index"] == 0)
         .map(|p| {
             (
                 p["speed_m_s"].as_f64().unwrap(),

@@ -28,7 +28,9 @@ pub enum Command {
     CriticalSpeed(CriticalSpeedArgs),
     /// Speed against accuracy: the scene over the numerical knobs against a fine reference run.
     Tradeoff(super::tradeoff::TradeoffArgs),
-    /// Bifurcation diagram: hunting amplitude against speed (up-scan and ramp-down).
+    /// One vehicle in several formulations side by side (a published one, ours, each difference alone): linear and nonlinear critical speeds, cycle amplitudes, bifurcation plot.
+    CrossCode(super::cross_code::CrossCodeArgs),
+    /// Bifurcation diagram: every wheelset's hunting amplitude against speed (up-scan, ramp-down and/or step-and-dwell continuation).
     Bifurcation {
         /// Scene file (TOML).
         #[arg(value_name = "SCENE.toml")]
@@ -42,9 +44,21 @@ pub enum Command {
         /// Speed step of the up-scan (m/s).
         #[arg(long, default_value_t = 2.0, value_name = "V")]
         step: f64,
-        /// Deceleration of the ramp-down (m/s²).
+        /// Deceleration of the ramp-down, and of the step-dwell's steps (m/s²).
         #[arg(long, default_value_t = 0.5, value_name = "A")]
         ramp_deceleration: f64,
+        /// How the hunting branch is followed down: ramp (one decelerating run) or step-dwell (each speed held --dwell-s, --speed-step apart); repeatable for both.
+        #[arg(long = "continuation", value_name = "C", default_value = "ramp")]
+        continuation: Vec<crate::studies::bifurcation::Continuation>,
+        /// Speed step of the step-dwell continuation (m/s).
+        #[arg(long, default_value_t = 0.5, value_name = "V")]
+        speed_step: f64,
+        /// Time each step-dwell speed is held (s); its amplitude is taken over the second half.
+        #[arg(long, default_value_t = 10.0, value_name = "S")]
+        dwell_s: f64,
+        /// The nonlinear critical speed where every wheelset's cycle has died (all) or the leading wheelset's (leading).
+        #[arg(long, default_value = "all", value_name = "C")]
+        criterion: crate::studies::cycle_death::HuntingCriterion,
         /// Runs in parallel [default: the number of cores].
         #[arg(long, value_name = "N")]
         jobs: Option<usize>,
@@ -272,10 +286,13 @@ pub struct CriticalSpeedArgs {
     /// Deceleration of the ramp (m/s²).
     #[arg(long, default_value_t = 0.5, value_name = "A")]
     pub ramp_deceleration: f64,
+    /// Ramp: the nonlinear critical speed where every wheelset's cycle has died (all) or the leading wheelset's (leading).
+    #[arg(long, default_value = "all", value_name = "C")]
+    pub criterion: crate::studies::cycle_death::HuntingCriterion,
     /// Set a scene entry for every run (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
-    /// Output directory (rates.csv, rates.png, runs/).
+    /// Output directory (rates.csv, rates.png, ramp_wheelsets.csv, runs/).
     #[arg(long, value_name = "DIR", default_value = "critical_speed")]
     pub out: PathBuf,
     /// Print JSON.

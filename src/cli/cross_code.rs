@@ -17,7 +17,7 @@ pub struct CrossCodeArgs {
     /// Output directory (cross_code.md, .csv, .json, bifurcation.png, one directory of runs per variant).
     #[arg(long, value_name = "DIR", default_value = "cross_code")]
     pub out: PathBuf,
-    /// Runs in parallel within a variant's linear search [default: the number of cores].
+    /// Variants run in parallel [default: the number of cores].
     #[arg(long, value_name = "N")]
     pub jobs: Option<usize>,
     /// Print the report as JSON.

@@ -1,6 +1,7 @@
 //! Command-line interface of `sim` (thin: parse, check, call, print).
 
 pub mod args;
+pub mod cross_code;
 pub mod probe;
 pub mod tradeoff;
 
@@ -127,12 +128,17 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Run(args) => run_command(&args),
         Command::CriticalSpeed(args) => critical_speed_command(&args),
         Command::Tradeoff(args) => tradeoff::command(&args),
+        Command::CrossCode(args) => cross_code::command(&args),
         Command::Bifurcation {
             scene,
             min,
             max,
             step,
             ramp_deceleration,
+            continuation,
+            speed_step,
+            dwell_s,
+            criterion,
             jobs,
             set,
             out,
@@ -148,6 +154,10 @@ pub fn run(cli: Cli) -> Result<()> {
                 jobs: jobs
                     .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
                 out_dir: out,
+                criterion,
+                continuations: continuation,
+                dwell_step_m_s: speed_step,
+                dwell_s,
             };
             let stop = preproc::cli::stop_on_signal(false);
             let mut b = crate::studies::bifurcation::bifurcation(&scene, &settings, stop)?;
@@ -277,6 +287,7 @@ fn critical_speed_command(args: &CriticalSpeedArgs) -> Result<()> {
         out_dir: args.out.clone(),
         skip_s: args.skip_s,
         ramp_deceleration_m_s2: args.ramp_deceleration,
+        criterion: args.criterion,
     };
     let stop = preproc::cli::stop_on_signal(false);
     let quiet = args.json;

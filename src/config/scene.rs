@@ -44,6 +44,8 @@
 //! # deceleration_m_s2 = 0.5 # or acceleration_m_s2 (from rest with speed_m_s = 0):
 //! # final_speed_m_s = 0.0   # a speed ramp of the track-following references, held at
 //! #                         # final_speed_m_s (braking: 0 by default; < 0 reverses)
+//! # speed_profile = ((0, 10.0), (20, 10.0), (30, 5.0))  # or knots (t s, V m/s): V
+//! #                         # piecewise linear, the last held; first t = 0 at speed_m_s
 //!
 //! (run)
 //! distance_m = 280.0        # or duration_s
@@ -76,7 +78,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, bail, ensure};
 use runtime::forces::creep::{CreepLaw, FastripParams, FastsimParams, PolachParams};
 use runtime::integrators::{Dopri5, Method, Rk4};
-use runtime::multibody::track_motion::SpeedRamp;
+use runtime::multibody::speed_profile::{SpeedKnot, SpeedProfile};
 use runtime::multibody::{DynamicsError, SystemSettings};
 use serde::{Deserialize, Serialize};
 
@@ -411,10 +413,63 @@ pub struct InitialSection {
     /// deceleration, a reversal (`runtime::multibody::track_motion::SpeedRamp`).
     #[serde(default)]
     pub final_speed_m_s: Option<f64>,
+    /// A piecewise-linear speed schedule of the references instead of a
+    /// ramp: knots `[t_s, speed_m_s]` (s, m/s), the first at t = 0 with
+    /// `speed_m_s`, t strictly increasing, speeds ≥ 0; the last speed is
+    /// held (`runtime::multibody::speed_profile::SpeedSchedule`). Not with
+    /// an acceleration, deceleration or final speed.
+    #[serde(default)]
+    pub speed_profile: Option<Vec<[f64; 2]>>,
 }
 
 fn default_s() -> f64 {
     5.0
+}
+
+impl InitialSection {
+    /// The scene's rules of `speed_profile` (the runtime checks them again,
+    /// `SystemSettings::validate_motion`), each naming the knot.
+    fn validate_speed_profile(&self, knots: &[[f64; 2]]) -> Result<()> {
+        ensure!(
+            self.acceleration_m_s2 == 0.0
+                && self.deceleration_m_s2 == 0.0
+                && self.final_speed_m_s.is_none(),
+            "[initial] speed_profile goes without acceleration_m_s2, deceleration_m_s2 and final_speed_m_s (the schedule gives the whole motion): remove them or the profile"
+        );
+        let Some([t0, v0]) = knots.first().copied() else {
+            bail!(
+                "[initial] speed_profile is empty: give knots [t_s, speed_m_s], the first at t = 0"
+            )
+        };
+        ensure!(
+            t0 == 0.0,
+            "[initial] speed_profile: the first knot's time is {t0} s; it must be 0 (the start of the run)"
+        );
+        for (k, [t, v]) in knots.iter().copied().enumerate() {
+            ensure!(
+                t.is_finite() && v.is_finite(),
+                "[initial] speed_profile knot {k} [{t}, {v}] must be finite"
+            );
+            ensure!(
+                (0.0..=150.0).contains(&v),
+                "[initial] speed_profile knot {k}: speed {v} m/s must lie in [0, 150] m/s (check the unit: m/s, not km/h)"
+            );
+            if k > 0 {
+                let before = knots[k - 1][0];
+                ensure!(
+                    t > before,
+                    "[initial] speed_profile knot {k}: time {t} s must be greater than knot {}'s {before} s (times strictly increasing)",
+                    k - 1
+                );
+            }
+        }
+        ensure!(
+            self.speed_m_s == v0,
+            "[initial] speed_m_s = {} differs from the first knot's speed of [initial] speed_profile, {v0} m/s: the references start at one speed, give the same in both",
+            self.speed_m_s
+        );
+        Ok(())
+    }
 }
 
 /// Run length, integrator, outputs.
@@ -695,6 +750,9 @@ fn scene_key(setting: &str) -> &'static str {
         "deceleration (m/s²)" => "[initial] deceleration_m_s2",
         "acceleration (m/s²)" => "[initial] acceleration_m_s2",
         "final speed (m/s)" => "[initial] final_speed_m_s",
+        "speed profile (knots)" | "speed profile time (s)" | "speed profile speed (m/s)" => {
+            "[initial] speed_profile"
+        }
         "axle torque (N·m)" => "[run] axle_torque_nm",
         "axle brake torque (N·m)" => "[run] axle_brake_torque_nm",
         _ => "[initial]/[run] motion",
@@ -810,6 +868,9 @@ impl Scene {
             i.final_speed_m_s.unwrap_or_default()
         );
         ensure!(i.s_m.is_finite(), "[initial] s_m must be finite");
+        if let Some(knots) = &i.speed_profile {
+            i.validate_speed_profile(knots)?;
+        }
         self.motion_settings()
             .validate_motion()
             .map_err(|e| match e {
@@ -843,12 +904,16 @@ impl Scene {
             _ => bail!("[run]: give either distance_m or duration_s"),
         }
         if let Some(d) = r.distance_m {
+            let profile_moves = i
+                .speed_profile
+                .as_ref()
+                .is_some_and(|k| k.iter().any(|[_, v]| *v > 0.0));
             ensure!(
-                i.speed_m_s > 0.0 || i.acceleration_m_s2 > 0.0,
-                "[run] distance_m needs [initial] speed_m_s > 0 or acceleration_m_s2 > 0 (use duration_s at standstill)"
+                i.speed_m_s > 0.0 || i.acceleration_m_s2 > 0.0 || profile_moves,
+                "[run] distance_m needs [initial] speed_m_s > 0, acceleration_m_s2 > 0 or a speed_profile that moves (use duration_s at standstill)"
             );
             ensure!(
-                self.speed_ramp().time_to_cover_s(d).is_some()
+                self.speed_profile().time_to_cover_s(d).is_some()
                     || i.final_speed_m_s.is_none_or(|vf| vf >= 0.0),
                 "[run] distance_m = {d} is never covered: the references reverse first (use duration_s)"
             );
@@ -902,6 +967,14 @@ impl Scene {
             deceleration_m_s2: i.deceleration_m_s2,
             acceleration_m_s2: i.acceleration_m_s2,
             final_speed_m_s: i.final_speed_m_s,
+            speed_profile: i.speed_profile.as_ref().map(|k| {
+                k.iter()
+                    .map(|[t_s, speed_m_s]| SpeedKnot {
+                        t_s: *t_s,
+                        speed_m_s: *speed_m_s,
+                    })
+                    .collect()
+            }),
             axle_torque_nm: r.axle_torque_nm,
             axle_brake_torque_nm: r.axle_brake_torque_nm,
             s_start_m: i.s_m,
@@ -910,17 +983,17 @@ impl Scene {
     }
 
     /// The references' speed against time (`[initial]` speed_m_s,
-    /// acceleration_m_s2 or deceleration_m_s2, final_speed_m_s): the
-    /// runtime's ramp of [`Self::motion_settings`].
-    pub fn speed_ramp(&self) -> SpeedRamp {
-        self.motion_settings().speed_ramp()
+    /// acceleration_m_s2 or deceleration_m_s2, final_speed_m_s, or
+    /// speed_profile): the runtime's profile of [`Self::motion_settings`].
+    pub fn speed_profile(&self) -> SpeedProfile {
+        self.motion_settings().speed_profile()
     }
 
     /// Simulated time (s): for `distance_m`, the time the references take
     /// to cover it (with a deceleration, until they stop, if they stop
     /// first).
     pub fn duration_s(&self) -> f64 {
-        let ramp = self.speed_ramp();
+        let ramp = self.speed_profile();
         match (self.run.distance_m, self.run.duration_s) {
             (Some(d), _) => ramp.time_to_cover_s(d).or(ramp.end_time_s()).unwrap_or(0.0),
             (None, Some(t)) => t,
@@ -1212,6 +1285,50 @@ mod tests {
             (
                 &["initial.speed_m_s=-1"],
                 "[initial] speed_m_s = -1 must be finite and >= 0",
+            ),
+        ];
+        for (o, what) in cases {
+            let chain = format!("{:#}", scene(o).unwrap_err());
+            assert!(chain.contains(what), "{o:?}: {chain}");
+        }
+    }
+
+    #[test]
+    fn speed_profiles_give_the_schedule_and_name_the_broken_rule() {
+        let scene = |o: &[&str]| {
+            let o: Vec<String> = o.iter().map(|s| s.to_string()).collect();
+            LoadedScene::default_scene(&o)
+        };
+        // 10 m/s for 2 s (20 m), down to 6 m/s over 2 s (16 m), held: 40 m
+        // at 4 + 4/6 s.
+        let profile = "initial.speed_profile=[[0, 10.0], [2, 10.0], [4.0, 6.0]]";
+        let s = scene(&[profile, "run.distance_m=40"]).unwrap();
+        assert!((s.scene.duration_s() - (4.0 + 4.0 / 6.0)).abs() < 1e-12);
+        assert!((s.scene.speed_profile().speed_m_s(3.0) - 8.0).abs() < 1e-12);
+        // A duration: the planner's travel is the schedule's integral.
+        let s = scene(&[profile, "run.distance_m=", "run.duration_s=5"]).unwrap();
+        assert!((crate::session::plan::facts::travel_m(&s) - 42.0).abs() < 1e-12);
+        let cases: [(&[&str], &str); 6] = [
+            (
+                &[profile, "initial.deceleration_m_s2=1"],
+                "[initial] speed_profile goes without acceleration_m_s2",
+            ),
+            (&["initial.speed_profile=[]"], "speed_profile is empty"),
+            (
+                &["initial.speed_profile=[[1, 10.0]]"],
+                "the first knot's time is 1 s; it must be 0",
+            ),
+            (
+                &["initial.speed_profile=[[0, 10.0], [2, 8.0], [2, 6.0]]"],
+                "knot 2: time 2 s must be greater than knot 1's 2 s",
+            ),
+            (
+                &["initial.speed_profile=[[0, 10.0], [2, 300.0]]"],
+                "check the unit",
+            ),
+            (
+                &["initial.speed_profile=[[0, 12.0], [2, 8.0]]"],
+                "[initial] speed_m_s = 10 differs from the first knot's speed of [initial] speed_profile, 12 m/s",
             ),
         ];
         for (o, what) in cases {

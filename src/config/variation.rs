@@ -76,6 +76,14 @@ impl Variation {
         if scene.run.duration_s.is_some() {
             out.push(Variation::Remove("run.duration_s".into()));
         }
+        out.extend(Self::track_inputs_removed(scene));
+        out
+    }
+
+    /// Removals of the scene's track inputs other than `straight_m` (for an
+    /// ideal straight set by [`Variation::StraightTrack`]).
+    pub fn track_inputs_removed(scene: &Scene) -> Vec<Variation> {
+        let mut out = Vec::new();
         let t = &scene.track;
         for (key, set) in [
             ("centerline", t.centerline.is_some()),

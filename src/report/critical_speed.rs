@@ -1,5 +1,6 @@
-//! The critical-speed study's reports: the table like the paper's Table 1,
-//! `rates.csv` and `rates.png` (`docs/guide/critical-speed.md`).
+//! The critical-speed study's reports: the table like the paper's Table 1
+//! with every wheelset's cycle death under a ramp, `rates.csv`,
+//! `rates.png` and `ramp_wheelsets.csv` (`docs/guide/critical-speed.md`).
 
 use std::path::Path;
 
@@ -8,6 +9,60 @@ use anyhow::{Context, Result};
 use crate::studies::critical_speed::{
     CriticalSpeed, CriticalSpeedMethod, CriticalSpeedReport, SpeedSample,
 };
+use crate::studies::cycle_death::CycleDeaths;
+
+impl CycleDeaths {
+    /// One line per wheelset (saturated amplitude, death speed or fate)
+    /// and the one that hunts last, each indented by `indent`.
+    pub fn to_text(&self, indent: &str) -> String {
+        let mut s = String::new();
+        for w in &self.wheelsets {
+            let death = match w.death_m_s {
+                Some(v) => format!("cycle dies at {v:.2} m/s ({:.1} km/h)", v * 3.6),
+                None => w.fate.as_str().replace('_', " "),
+            };
+            s += &format!(
+                "{indent}wheelset {} '{}': saturated {:.2} mm, {death}\n",
+                w.index, w.wheelset, w.saturated_mm
+            );
+        }
+        match (&self.last_hunting, self.speed_m_s) {
+            (Some(name), Some(v)) => {
+                s += &format!(
+                    "{indent}criterion {}: hunts last '{name}', every cycle considered dead at {v:.2} m/s\n",
+                    self.criterion
+                )
+            }
+            (Some(name), None) => {
+                s += &format!(
+                    "{indent}criterion {}: '{name}' still hunts at the lowest speed\n",
+                    self.criterion
+                )
+            }
+            _ => {}
+        }
+        s
+    }
+
+    /// CSV rows `wheelset_index,wheelset,saturated_mm,death_speed_m_s,fate,hunts_last`
+    /// after `prefix` (which ends with a comma).
+    pub fn csv_rows(&self, prefix: &str) -> String {
+        self.wheelsets
+            .iter()
+            .map(|w| {
+                format!(
+                    "{prefix}{},{},{},{},{},{}\n",
+                    w.index,
+                    w.wheelset,
+                    w.saturated_mm,
+                    w.death_m_s.map_or(String::new(), |v| v.to_string()),
+                    w.fate.as_str(),
+                    self.last_hunting_index == Some(w.index)
+                )
+            })
+            .collect()
+    }
+}
 
 impl CriticalSpeed {
     /// The hunting mode at the lowest and the highest speed evaluated with
@@ -70,6 +125,9 @@ impl CriticalSpeedReport {
                     )
                 }
             }
+            if let Some(d) = &r.cycle_deaths {
+                s += &d.to_text("      ");
+            }
         }
         for f in &self.files {
             s += &format!("  wrote {f}\n");
@@ -118,6 +176,22 @@ impl CriticalSpeedReport {
         }
         let csv_path = dir.join("rates.csv");
         super::write_text(&csv_path, &csv)?;
+        let ramps: Vec<(&CriticalSpeed, &CycleDeaths)> = self
+            .results
+            .iter()
+            .filter_map(|r| r.cycle_deaths.as_ref().map(|d| (r, d)))
+            .collect();
+        if !ramps.is_empty() {
+            let mut rows = String::from(
+                "creep_law,criterion,wheelset_index,wheelset,saturated_mm,death_speed_m_s,fate,hunts_last\n",
+            );
+            for (r, d) in ramps {
+                rows += &d.csv_rows(&format!("{},{},", r.creep_law, d.criterion));
+            }
+            let path = dir.join("ramp_wheelsets.csv");
+            super::write_text(&path, &rows)?;
+            self.files.push(path.display().to_string());
+        }
         let png = dir.join("rates.png");
         write_line_chart(&png, &chart, (1600, 900))?;
         self.files.push(csv_path.display().to_string());

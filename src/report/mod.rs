@@ -3,6 +3,7 @@
 
 pub mod bifurcation;
 pub mod critical_speed;
+pub mod cross_code;
 pub mod curving_plot;
 pub mod memory;
 pub mod run_files;

@@ -11,9 +11,10 @@
 //!   then interpolated linearly in σ;
 //! - **ramp** (nonlinear critical speed): from a flange-limited hunting
 //!   cycle at the top speed the references decelerate slowly on a long
-//!   ideal straight; the critical speed is the speed at which the cycle's
-//!   amplitude last falls below a quarter of its saturated value (the limit
-//!   cycle dies out);
+//!   ideal straight; per wheelset, its cycle dies where its amplitude last
+//!   falls below a quarter of its saturated value; the critical speed is
+//!   where every wheelset's cycle has died (`--criterion all`, default) or
+//!   the leading one's (`leading`) ([`super::cycle_death`]);
 //! - **linear** (eigenvalues): the right-hand side is linearised around the
 //!   centred run ([`runtime::multibody::linear`]) and the speed at which the
 //!   hunting mode's real part crosses zero is bracketed the same way.
@@ -33,6 +34,7 @@ use crate::config::Variation;
 use crate::config::scene::CreepLawName;
 use crate::config::scene::LoadedScene;
 use crate::run::run_scene;
+use crate::studies::cycle_death::{CycleDeaths, HuntingCriterion, ramp_deaths};
 
 /// A growth-rate fit of the lateral motion of one wheelset.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -53,7 +55,7 @@ const NOISE_M: f64 = 1e-8;
 
 /// Extrema (time, |y|) of a sampled signal, refined by the parabola through
 /// the sample and its neighbours.
-fn extrema(t: &[f64], y: &[f64]) -> Vec<(f64, f64)> {
+pub(crate) fn extrema(t: &[f64], y: &[f64]) -> Vec<(f64, f64)> {
     let mut out = Vec::new();
     for i in 1..y.len().saturating_sub(1) {
         let (a, b, c) = (y[i - 1], y[i], y[i + 1]);
@@ -204,6 +206,9 @@ pub struct CriticalSpeed {
     pub samples: Vec<SpeedSample>,
     /// What happened when no crossing was found.
     pub note: Option<String>,
+    /// Ramp: every wheelset's cycle death, the criterion and the wheelset
+    /// that hunts last.
+    pub cycle_deaths: Option<CycleDeaths>,
 }
 
 impl CriticalSpeed {
@@ -232,6 +237,7 @@ impl CriticalSpeed {
             frequency_hz: freq,
             samples,
             note,
+            cycle_deaths: None,
         }
     }
 }
@@ -250,6 +256,8 @@ pub struct CriticalSpeedSettings {
     pub skip_s: f64,
     /// Deceleration of the ramp (m/s²).
     pub ramp_deceleration_m_s2: f64,
+    /// Whose cycles must have died (ramp).
+    pub criterion: HuntingCriterion,
 }
 
 impl CriticalSpeedSettings {
@@ -579,46 +587,27 @@ pub fn ramp(
                     "the ramp run failed: {}",
                     crate::error_text::chain_text(&e)
                 )),
+                cycle_deaths: None,
             });
         }
     };
-    let w = &r.wheelsets[0];
-    let peaks = extrema(&r.time_s, &w.lateral_m);
-    // The cycle's saturated amplitude: the 90th percentile of the peaks
-    // (robust to the impacts of the run-up).
-    let mut amps: Vec<f64> = peaks.iter().map(|p| p.1).collect();
-    amps.sort_by(f64::total_cmp);
-    let saturated = amps
-        .get((amps.len() as f64 * 0.9) as usize)
-        .copied()
-        .unwrap_or(0.0);
-    let threshold = 0.25 * saturated;
-    // The last peak above the threshold: the cycle dies after it.
-    let last = peaks.iter().rev().find(|p| p.1 >= threshold);
-    let speed_at = |t: f64| (v0 - a * t).max(0.0);
-    let (speed, note) = match last {
-        Some(p) if saturated > 1e-4 && speed_at(p.0) > v1 + 1e-9 => (Some(speed_at(p.0)), None),
-        Some(_) if saturated > 1e-4 => (
-            None,
-            Some(format!(
-                "the limit cycle survives down to {v1} m/s: nonlinear critical speed below it"
-            )),
-        ),
-        _ => (
-            None,
-            Some(format!(
-                "no limit cycle at {v0} m/s: start the ramp above the linear critical speed"
-            )),
-        ),
-    };
-    let freq = last.and_then(|p| {
-        let near: Vec<&(f64, f64)> = peaks
-            .iter()
-            .filter(|q| (q.0 - p.0).abs() < 2.0 && q.1 > 0.5 * threshold)
-            .collect();
-        (near.len() >= 3)
-            .then(|| 0.5 * (near.len() - 1) as f64 / (near[near.len() - 1].0 - near[0].0))
-    });
+    let (deaths, peaks) = ramp_deaths(&r, v0, v1, a, settings.criterion);
+    // The hunting frequency near the death of the wheelset that decides.
+    let freq = deaths
+        .last_hunting_index
+        .zip(deaths.speed_m_s)
+        .and_then(|(i, _)| {
+            let w = &deaths.wheelsets[i];
+            let t = w.death_time_s?;
+            let threshold = crate::studies::cycle_death::DEATH_FRACTION * w.saturated_mm * 1e-3;
+            let near: Vec<_> = peaks[i]
+                .iter()
+                .filter(|q| (q.t_s - t).abs() < 2.0 && q.amplitude_m > 0.5 * threshold)
+                .collect();
+            (near.len() >= 3)
+                .then(|| 0.5 * (near.len() - 1) as f64 / (near[near.len() - 1].t_s - near[0].t_s))
+        });
+    let (speed, note) = (deaths.speed_m_s, deaths.note.clone());
     Ok(CriticalSpeed {
         creep_law: law,
         method: CriticalSpeedMethod::Ramp,
@@ -633,6 +622,7 @@ pub fn ramp(
             Some(output.display().to_string()),
         )],
         note,
+        cycle_deaths: Some(deaths),
     })
 }
 
@@ -720,6 +710,7 @@ mod tests {
             out_dir: PathBuf::new(),
             skip_s: 0.0,
             ramp_deceleration_m_s2: 0.5,
+            criterion: HuntingCriterion::All,
         };
         assert!(good.validate().is_ok());
         let err = |edit: fn(&mut CriticalSpeedSettings)| {
@@ -756,6 +747,7 @@ mod tests {
             out_dir: PathBuf::new(),
             skip_s: 0.0,
             ramp_deceleration_m_s2: 1.0,
+            criterion: HuntingCriterion::All,
         };
         let rate = |v: f64| -> Result<SpeedSample> {
             Ok(SpeedSample::new(v, (v - 63.7) * 0.1, 2.0, None))

@@ -53,10 +53,9 @@ use std::time::Instant;
 use anyhow::{Context, Result, bail, ensure};
 use serde::{Deserialize, Serialize};
 
-use super::bifurcation::{
-    BifurcationSettings, Continuation, CycleCriterion, WheelsetAmplitude, step_dwell,
-};
+use super::bifurcation::{BifurcationSettings, BranchPoint, Continuation, step_and_dwell};
 use super::critical_speed::{CriticalSpeedSettings, linear_domain, ramp};
+use super::cycle_death::{CycleDeaths, HuntingCriterion};
 use crate::config::Variation;
 use crate::config::scene::LoadedScene;
 
@@ -213,6 +212,28 @@ pub struct CycleDeath {
     pub wall_s: f64,
 }
 
+impl CycleDeath {
+    fn new(
+        speed_m_s: Option<f64>,
+        deaths: Option<&CycleDeaths>,
+        note: Option<String>,
+        wall_s: f64,
+    ) -> Self {
+        CycleDeath {
+            speed_m_s,
+            last_wheelset: deaths.and_then(|d| d.last_hunting.clone()),
+            per_wheelset_m_s: deaths.map_or(Vec::new(), |d| {
+                d.wheelsets
+                    .iter()
+                    .map(|w| (w.wheelset.clone(), w.death_m_s))
+                    .collect()
+            }),
+            note: note.or_else(|| deaths.and_then(|d| d.note.clone())),
+            wall_s,
+        }
+    }
+}
+
 /// The results of one variant.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct VariantResult {
@@ -226,7 +247,7 @@ pub struct VariantResult {
     pub ramp: CycleDeath,
     pub step_dwell: CycleDeath,
     /// Per dwell speed and wheelset, the cycle amplitude (mm).
-    pub dwell_amplitudes: Vec<WheelsetAmplitude>,
+    pub dwell_amplitudes: Vec<BranchPoint>,
     /// The amplitudes at the study's speeds: (speed, [(wheelset, mm)]).
     pub amplitudes_at: Vec<(f64, Vec<(String, f64)>)>,
     pub wall_s: f64,
@@ -267,119 +288,147 @@ fn toml_string(s: &str) -> String {
     toml::Value::String(s.to_string()).to_string()
 }
 
-/// Runs the study (module docs): the variants one after the other, each
-/// variant's runs `jobs` at a time. `progress` receives a line per step.
+/// Runs the study (module docs): `jobs` variants at a time (each variant's
+/// runs one after the other). `progress` receives a line per step.
 pub fn cross_code(
     study: &StudyFile,
     dir: &Path,
     out_dir: &Path,
     jobs: usize,
     stop: Arc<AtomicBool>,
-    progress: &mut dyn FnMut(&str),
+    progress: &mut (dyn FnMut(&str) + Send),
 ) -> Result<CrossCodeReport> {
+    use rayon::prelude::*;
     study.validate()?;
-    let mut variants = Vec::new();
-    for v in &study.variants {
-        let started = Instant::now();
-        let scene = variant_scene(study, dir, v)?;
-        let law = scene.scene.contact.creep_law;
-        let vdir = out_dir.join(slug(&v.name));
-        progress(&format!("{}: linear critical speed", v.name));
-        let lin_settings = CriticalSpeedSettings {
-            laws: vec![law],
-            min_m_s: study.linear.min_m_s,
-            max_m_s: study.linear.max_m_s,
-            tol_m_s: study.linear.tol_m_s,
-            jobs,
-            methods: vec![],
-            out_dir: vdir.clone(),
-            skip_s: 1.0,
-            ramp_deceleration_m_s2: study.nonlinear.deceleration_m_s2,
-        };
-        let lin = linear_domain(&scene, law, &lin_settings, stop.clone())
-            .with_context(|| format!("variant '{}': the linear critical speed", v.name))?;
-        let n = &study.nonlinear;
-        let hunting = scene
-            .varied(&[Variation::Set(
-                "initial.lateral_m".into(),
-                toml::Value::Float(n.start_lateral_m),
-            )])
-            .with_context(|| format!("variant '{}': the hunting start", v.name))?;
-        progress(&format!("{}: ramp {} → {} m/s", v.name, n.start_m_s, n.min_m_s));
-        let ramp_settings = CriticalSpeedSettings {
-            min_m_s: n.min_m_s,
-            max_m_s: n.start_m_s,
-            ramp_deceleration_m_s2: n.deceleration_m_s2,
-            ..lin_settings.clone()
-        };
-        let t = Instant::now();
-        let r = ramp(&hunting, law, &ramp_settings, stop.clone())
-            .with_context(|| format!("variant '{}': the ramp", v.name))?;
-        let ramp_death = CycleDeath {
-            speed_m_s: r.speed_m_s,
-            last_wheelset: r.last_wheelset.clone(),
-            per_wheelset_m_s: r.wheelset_death_m_s.clone(),
-            note: r.note.clone(),
-            wall_s: t.elapsed().as_secs_f64(),
-        };
-        progress(&format!(
-            "{}: step-and-dwell {} → {} m/s, {} m/s steps held {} s",
-            v.name, n.start_m_s, n.min_m_s, n.speed_step_m_s, n.dwell_s
-        ));
-        let bif_settings = BifurcationSettings {
-            min_m_s: n.min_m_s,
-            max_m_s: n.start_m_s,
-            step_m_s: n.speed_step_m_s,
-            deceleration_m_s2: n.deceleration_m_s2,
-            jobs,
-            out_dir: vdir.clone(),
-            continuations: vec![Continuation::StepDwell],
-            speed_step_m_s: n.speed_step_m_s,
-            dwell_s: n.dwell_s,
-            criterion: CycleCriterion::All,
-        };
-        let t = Instant::now();
-        let sd = step_dwell(&hunting, &bif_settings, stop.clone())
-            .with_context(|| format!("variant '{}': the step-and-dwell continuation", v.name))?;
-        let step_death = CycleDeath {
-            speed_m_s: sd.death_m_s,
-            last_wheelset: sd.last_wheelset.clone(),
-            per_wheelset_m_s: sd.wheelset_death_m_s.clone(),
-            note: sd.note.clone(),
-            wall_s: t.elapsed().as_secs_f64(),
-        };
-        let amplitudes_at = n
-            .amplitudes_at_m_s
-            .iter()
-            .map(|&speed| (speed, amplitudes_near(&sd.amplitudes, speed, n.speed_step_m_s)))
-            .collect();
-        variants.push(VariantResult {
-            name: v.name.clone(),
-            set: scene_entries(study, v),
-            plot: v.plot,
-            linear_m_s: lin.speed_m_s,
-            linear_frequency_hz: lin.frequency_hz,
-            linear_note: lin.note.clone(),
-            ramp: ramp_death,
-            step_dwell: step_death,
-            dwell_amplitudes: sd.amplitudes,
-            amplitudes_at,
-            wall_s: started.elapsed().as_secs_f64(),
-        });
-    }
+    ensure!(jobs >= 1, "jobs must be >= 1");
+    let progress = std::sync::Mutex::new(progress);
+    let say = |m: String| {
+        if let Ok(mut p) = progress.lock() {
+            p(&m);
+        }
+    };
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(jobs).build()?;
+    let variants: Vec<Result<VariantResult>> = pool.install(|| {
+        study
+            .variants
+            .par_iter()
+            .map(|v| run_variant(study, dir, out_dir, v, stop.clone(), &say))
+            .collect()
+    });
     Ok(CrossCodeReport {
         title: study.title.clone(),
         study: String::new(),
         scene: dir.join(&study.scene).display().to_string(),
         command: String::new(),
-        variants,
+        variants: variants.into_iter().collect::<Result<_>>()?,
         files: Vec::new(),
     })
 }
 
+/// One variant of the study (module docs).
+fn run_variant(
+    study: &StudyFile,
+    dir: &Path,
+    out_dir: &Path,
+    v: &VariantEntry,
+    stop: Arc<AtomicBool>,
+    say: &(dyn Fn(String) + Sync),
+) -> Result<VariantResult> {
+    let started = Instant::now();
+    let scene = variant_scene(study, dir, v)?;
+    let law = scene.scene.contact.creep_law;
+    let vdir = out_dir.join(slug(&v.name));
+    say(format!("{}: linear critical speed", v.name));
+    let lin_settings = CriticalSpeedSettings {
+        laws: vec![law],
+        min_m_s: study.linear.min_m_s,
+        max_m_s: study.linear.max_m_s,
+        tol_m_s: study.linear.tol_m_s,
+        jobs: 1,
+        methods: vec![],
+        out_dir: vdir.clone(),
+        skip_s: 1.0,
+        ramp_deceleration_m_s2: study.nonlinear.deceleration_m_s2,
+        criterion: HuntingCriterion::All,
+    };
+    let lin = linear_domain(&scene, law, &lin_settings, stop.clone())
+        .with_context(|| format!("variant '{}': the linear critical speed", v.name))?;
+    let n = &study.nonlinear;
+    let hunting = scene
+        .varied(&[Variation::Set(
+            "initial.lateral_m".into(),
+            toml::Value::Float(n.start_lateral_m),
+        )])
+        .with_context(|| format!("variant '{}': the hunting start", v.name))?;
+    say(format!("{}: ramp {} → {} m/s", v.name, n.start_m_s, n.min_m_s));
+    let ramp_settings = CriticalSpeedSettings {
+        min_m_s: n.min_m_s,
+        max_m_s: n.start_m_s,
+        ramp_deceleration_m_s2: n.deceleration_m_s2,
+        ..lin_settings.clone()
+    };
+    let t = Instant::now();
+    let r = ramp(&hunting, law, &ramp_settings, stop.clone())
+        .with_context(|| format!("variant '{}': the ramp", v.name))?;
+    let ramp_death = CycleDeath::new(
+        r.speed_m_s,
+        r.cycle_deaths.as_ref(),
+        r.note.clone(),
+        t.elapsed().as_secs_f64(),
+    );
+    say(format!(
+        "{}: step-and-dwell {} → {} m/s, {} m/s steps held {} s",
+        v.name, n.start_m_s, n.min_m_s, n.speed_step_m_s, n.dwell_s
+    ));
+    let bif_settings = BifurcationSettings {
+        min_m_s: n.min_m_s,
+        max_m_s: n.start_m_s,
+        step_m_s: n.speed_step_m_s,
+        deceleration_m_s2: n.deceleration_m_s2,
+        jobs: 1,
+        out_dir: vdir.clone(),
+        continuations: vec![Continuation::StepDwell],
+        dwell_step_m_s: n.speed_step_m_s,
+        dwell_s: n.dwell_s,
+        criterion: HuntingCriterion::All,
+    };
+    let runs = vdir.join("runs");
+    std::fs::create_dir_all(&runs).with_context(|| format!("creating {}", runs.display()))?;
+    let sd = step_and_dwell(&hunting, &bif_settings, &runs, stop)
+        .with_context(|| format!("variant '{}': the step-and-dwell continuation", v.name))?;
+    let step_death = CycleDeath::new(
+        sd.deaths.speed_m_s,
+        Some(&sd.deaths),
+        sd.note.clone(),
+        sd.wall_s,
+    );
+    let amplitudes_at = n
+        .amplitudes_at_m_s
+        .iter()
+        .map(|&speed| (speed, amplitudes_near(&sd.points, speed, n.speed_step_m_s)))
+        .collect();
+    say(format!(
+        "{}: done in {:.0} s",
+        v.name,
+        started.elapsed().as_secs_f64()
+    ));
+    Ok(VariantResult {
+        name: v.name.clone(),
+        set: scene_entries(v),
+        plot: v.plot,
+        linear_m_s: lin.speed_m_s,
+        linear_frequency_hz: lin.frequency_hz,
+        linear_note: lin.note.clone(),
+        ramp: ramp_death,
+        step_dwell: step_death,
+        dwell_amplitudes: sd.points,
+        amplitudes_at,
+        wall_s: started.elapsed().as_secs_f64(),
+    })
+}
+
 /// The variant's entries as a user would type them (vehicle first).
-fn scene_entries(study: &StudyFile, v: &VariantEntry) -> Vec<String> {
-    let _ = study;
+fn scene_entries(v: &VariantEntry) -> Vec<String> {
     let mut out = Vec::new();
     if let Some(p) = &v.vehicle {
         out.push(format!("vehicle.file={}", p.display()));
@@ -391,7 +440,7 @@ fn scene_entries(study: &StudyFile, v: &VariantEntry) -> Vec<String> {
 /// Every wheelset's amplitude at the dwell nearest `speed_m_s` (within
 /// half a step), vehicle order; none when no dwell is that near.
 fn amplitudes_near(
-    amplitudes: &[WheelsetAmplitude],
+    amplitudes: &[BranchPoint],
     speed_m_s: f64,
     step_m_s: f64,
 ) -> Vec<(String, f64)> {
@@ -461,9 +510,10 @@ name = "ours"
 
     #[test]
     fn the_amplitudes_at_a_speed_come_from_the_nearest_dwell() {
-        let a = |s: f64, w: &str, mm: f64| WheelsetAmplitude {
+        let a = |s: f64, w: &str, mm: f64| BranchPoint {
             speed_m_s: s,
             wheelset: w.into(),
+            wheelset_index: usize::from(w == "rear"),
             amplitude_mm: mm,
         };
         let dwells = vec![

@@ -5,7 +5,9 @@ pub mod bifurcation;
 pub mod compare_tables;
 pub mod contact;
 pub mod creep_curves;
-// pub mod cross_code; (after the i15-hunt merge)
+pub mod cross_code;
 pub mod critical_speed;
+pub mod cycle_death;
 pub mod run_difference;
+pub mod step_dwell;
 pub mod tradeoff;

@@ -275,7 +275,7 @@ impl<'a> VehicleSystem<'a> {
             progress: None,
             // Leave 2 m of table ahead of the leading wheelset.
             s_stop_m: s_end - TRACK_END_MARGIN_M - max_x.max(0.0),
-            ramp: settings.speed_ramp(),
+            ramp: settings.speed_profile(),
             ledger: None,
             track_end_reached: false,
             settings,

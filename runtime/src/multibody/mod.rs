@@ -11,6 +11,7 @@
 //!   track-following references, spring–dampers) at its assembly
 //!   configuration;
 //! - [`track_motion`]: positions relative to the track, reference motion;
+//! - [`speed_profile`]: the references' speed against time (ramp or schedule);
 //! - [`system`]: the vehicle on the track as a first-order system for
 //!   [`crate::integrators`]; its settings (`settings`), errors (`error`),
 //!   assembly (`assemble`), evaluation — the paper's per-step algorithm
@@ -50,6 +51,7 @@ pub mod loaded_wheelset;
 pub mod preload;
 pub mod recorder;
 mod settings;
+pub mod speed_profile;
 pub mod system;
 pub mod table_contact;
 pub mod track_motion;

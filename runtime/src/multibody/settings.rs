@@ -7,6 +7,7 @@ use std::sync::Arc;
 
 use super::error::DynamicsError;
 use super::imported_contact::ImportedContactMethod;
+use super::speed_profile::{SpeedKnot, SpeedProfile, SpeedSchedule};
 use super::track_motion::SpeedRamp;
 use crate::contact::ContactOptions;
 use crate::contact::table::ContactTable;
@@ -70,6 +71,12 @@ pub struct SystemSettings {
     /// unbounded when accelerating. Below 0 when braking asks for a
     /// reversal (the references run backwards).
     pub final_speed_m_s: Option<f64>,
+    /// A piecewise-linear speed schedule of the references instead of the
+    /// ramp ([`SpeedSchedule`]): knots (t s, V m/s), the first at t = 0
+    /// with V = `speed_m_s`, t strictly increasing, V finite and ≥ 0; the
+    /// last speed is held. Exclusive with `deceleration_m_s2`,
+    /// `acceleration_m_s2` and `final_speed_m_s`.
+    pub speed_profile: Option<Vec<SpeedKnot>>,
     /// Torque about every wheelset's axle (N·m), + driving forwards (the
     /// sense of the forward rolling spin, +axle = left): a traction motor
     /// (> 0) or a constant braking torque (< 0; it does not stop at
@@ -103,6 +110,7 @@ impl Default for SystemSettings {
             deceleration_m_s2: 0.0,
             acceleration_m_s2: 0.0,
             final_speed_m_s: None,
+            speed_profile: None,
             axle_torque_nm: 0.0,
             axle_brake_torque_nm: 0.0,
             s_start_m: 5.0,
@@ -114,14 +122,77 @@ impl Default for SystemSettings {
 }
 
 impl SystemSettings {
-    /// The references' speed against time: V0 = `speed_m_s`, rate
-    /// `acceleration_m_s2 − deceleration_m_s2`, end speed `final_speed_m_s`.
-    pub fn speed_ramp(&self) -> SpeedRamp {
-        SpeedRamp {
-            initial_m_s: self.speed_m_s,
-            rate_m_s2: self.acceleration_m_s2 - self.deceleration_m_s2,
-            final_m_s: self.final_speed_m_s,
+    /// The references' speed against time: the schedule of
+    /// `speed_profile` if given, else the ramp from V0 = `speed_m_s` at the
+    /// rate `acceleration_m_s2 − deceleration_m_s2` to `final_speed_m_s`.
+    pub fn speed_profile(&self) -> SpeedProfile {
+        match &self.speed_profile {
+            Some(knots) => SpeedProfile::Schedule(SpeedSchedule::new(knots.clone())),
+            None => SpeedProfile::Ramp(SpeedRamp {
+                initial_m_s: self.speed_m_s,
+                rate_m_s2: self.acceleration_m_s2 - self.deceleration_m_s2,
+                final_m_s: self.final_speed_m_s,
+            }),
         }
+    }
+
+    /// Checks the knots of `speed_profile` (struct docs), naming the rule.
+    fn validate_schedule(&self, knots: &[SpeedKnot]) -> Result<(), DynamicsError> {
+        let bad = |setting, value, rule| {
+            Err(DynamicsError::Setting {
+                setting,
+                value,
+                rule,
+            })
+        };
+        if self.acceleration_m_s2 != 0.0
+            || self.deceleration_m_s2 != 0.0
+            || self.final_speed_m_s.is_some()
+        {
+            return bad(
+                "speed profile (knots)",
+                knots.len() as f64,
+                "give a speed profile or an acceleration, deceleration and final speed, not both",
+            );
+        }
+        let Some(first) = knots.first() else {
+            return bad(
+                "speed profile (knots)",
+                0.0,
+                "needs at least one knot [t_s, speed_m_s]",
+            );
+        };
+        if first.t_s != 0.0 {
+            return bad(
+                "speed profile time (s)",
+                first.t_s,
+                "of the first knot must be 0",
+            );
+        }
+        for (k, knot) in knots.iter().enumerate() {
+            if !(knot.t_s.is_finite() && (k == 0 || knot.t_s > knots[k - 1].t_s)) {
+                return bad(
+                    "speed profile time (s)",
+                    knot.t_s,
+                    "must be finite and greater than the previous knot's (strictly increasing)",
+                );
+            }
+            if !(knot.speed_m_s.is_finite() && knot.speed_m_s >= 0.0) {
+                return bad(
+                    "speed profile speed (m/s)",
+                    knot.speed_m_s,
+                    "must be finite and >= 0",
+                );
+            }
+        }
+        if self.speed_m_s != first.speed_m_s {
+            return bad(
+                "speed (m/s)",
+                self.speed_m_s,
+                "must equal the speed profile's first speed",
+            );
+        }
+        Ok(())
     }
 
     /// Checks the speed, ramp and axle torques, naming the setting and the
@@ -149,6 +220,9 @@ impl SystemSettings {
         }
         if !self.axle_torque_nm.is_finite() {
             return bad("axle torque (N·m)", self.axle_torque_nm, "must be finite");
+        }
+        if let Some(knots) = &self.speed_profile {
+            return self.validate_schedule(knots);
         }
         if self.acceleration_m_s2 > 0.0 && self.deceleration_m_s2 > 0.0 {
             return bad(
@@ -198,4 +272,65 @@ pub struct InitialConditions {
     pub lateral_m: f64,
     /// Yaw of every wheelset (rad), + nose left.
     pub yaw_rad: f64,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn knot(t_s: f64, speed_m_s: f64) -> SpeedKnot {
+        SpeedKnot { t_s, speed_m_s }
+    }
+
+    /// The rule a schedule breaks, or "" when it is accepted.
+    fn rule(speed_m_s: f64, knots: Vec<SpeedKnot>, edit: fn(&mut SystemSettings)) -> String {
+        let mut s = SystemSettings {
+            speed_m_s,
+            speed_profile: Some(knots),
+            ..SystemSettings::default()
+        };
+        edit(&mut s);
+        match s.validate_motion() {
+            Ok(()) => String::new(),
+            Err(e) => e.to_string(),
+        }
+    }
+
+    #[test]
+    fn a_speed_profile_is_checked_rule_by_rule() {
+        let good = vec![knot(0.0, 20.0), knot(5.0, 20.0), knot(7.0, 19.0)];
+        assert_eq!(rule(20.0, good.clone(), |_| {}), "");
+        let s = SystemSettings {
+            speed_m_s: 20.0,
+            speed_profile: Some(good.clone()),
+            ..SystemSettings::default()
+        };
+        assert!((s.speed_profile().distance_m(6.0) - 119.75).abs() < 1e-12);
+        assert!(
+            rule(20.0, good.clone(), |s| s.deceleration_m_s2 = 0.5).contains("not both"),
+            "exclusive with a ramp"
+        );
+        assert!(rule(20.0, good.clone(), |s| s.final_speed_m_s = Some(3.0)).contains("not both"));
+        assert!(rule(20.0, vec![], |_| {}).contains("at least one knot"));
+        assert!(
+            rule(20.0, vec![knot(1.0, 20.0)], |_| {})
+                .contains("speed profile time (s) = 1: of the first knot must be 0")
+        );
+        assert!(
+            rule(20.0, vec![knot(0.0, 20.0), knot(0.0, 10.0)], |_| {})
+                .contains("strictly increasing")
+        );
+        assert!(
+            rule(20.0, vec![knot(0.0, 20.0), knot(f64::NAN, 10.0)], |_| {})
+                .contains("strictly increasing")
+        );
+        assert!(
+            rule(20.0, vec![knot(0.0, 20.0), knot(1.0, -1.0)], |_| {})
+                .contains("speed profile speed (m/s) = -1: must be finite and >= 0")
+        );
+        assert!(
+            rule(25.0, good, |_| {})
+                .contains("speed (m/s) = 25: must equal the speed profile's first speed")
+        );
+    }
 }

@@ -15,7 +15,8 @@ use nalgebra::Vector3;
 
 use super::contact_source::ContactSource;
 use super::formulation::LongitudinalMotion;
-use super::track_motion::{SpeedRamp, TrackRelative};
+use super::speed_profile::SpeedProfile;
+use super::track_motion::TrackRelative;
 use super::vehicle::{End, VehicleModel};
 use crate::contact::{ContactSolver, WheelsetContacts};
 use crate::forces::normal::ContactMemory;
@@ -107,7 +108,7 @@ pub struct VehicleSystem<'a> {
     /// Stop when the vehicle reference passes this track distance (m).
     pub(super) s_stop_m: f64,
     /// The references' speed against time.
-    pub(super) ramp: SpeedRamp,
+    pub(super) ramp: SpeedProfile,
     /// Energy bookkeeping, when enabled ([`Self::enable_energy_ledger`]).
     pub(super) ledger: Option<EnergyLedger>,
     /// The run was stopped because a wheelset or the vehicle reference
@@ -196,8 +197,8 @@ impl<'a> VehicleSystem<'a> {
     }
 
     /// Speed of the references at time `t_s` (m/s): the ramp of
-    /// [`SystemSettings::speed_ramp`] (constant, braking to a stop or to
-    /// a final speed, accelerating).
+    /// [`SystemSettings::speed_profile`] (constant, braking to a stop or to
+    /// a final speed, accelerating, or a piecewise-linear schedule).
     pub fn speed_at_m_s(&self, t_s: f64) -> f64 {
         self.ramp.speed_m_s(t_s)
     }

@@ -95,21 +95,14 @@ impl FlangeFacts {
 }
 
 /// Simulated distance of the vehicle reference point (m): the distance, or
-/// the duration at the speed (with a deceleration, until the stop).
+/// the distance the references cover in the duration (ramp or schedule).
 pub fn travel_m(ls: &LoadedScene) -> f64 {
     let s = &ls.scene;
     if let Some(d) = s.run.distance_m {
         return d;
     }
-    let (v0, a) = (s.initial.speed_m_s, s.initial.deceleration_m_s2);
-    let t = s.duration_s();
-    if a > 0.0 {
-        let t_stop = v0 / a;
-        let t = t.min(t_stop);
-        v0 * t - 0.5 * a * t * t
-    } else {
-        v0 * t
-    }
+    // The integral of the references' speed (ramp or schedule).
+    s.speed_profile().distance_m(s.duration_s())
 }
 
 /// Longitudinal extent of the vehicle relative to its reference point (m):

@@ -488,6 +488,7 @@ fn critical_speeds(
             out_dir: settings.out_dir.join("critical_speed").join(v.slug()),
             skip_s: cs.skip_s,
             ramp_deceleration_m_s2: 0.5,
+            criterion: crate::studies::cycle_death::HuntingCriterion::All,
         };
         cs_settings.validate()?;
         let t0 = std::time::Instant::now();
