@@ -59,7 +59,11 @@ impl CrossCodeReport {
         for v in self.variants.iter().skip(2) {
             for (what, a, b) in [
                 ("linear", v.linear_m_s, base.linear_m_s),
-                ("nonlinear (step-and-dwell)", v.step_dwell.speed_m_s, base.step_dwell.speed_m_s),
+                (
+                    "nonlinear (step-and-dwell)",
+                    v.step_dwell.speed_m_s,
+                    base.step_dwell.speed_m_s,
+                ),
                 ("nonlinear (ramp)", v.ramp.speed_m_s, base.ramp.speed_m_s),
             ] {
                 if let (Some(a), Some(b)) = (a, b)
@@ -150,9 +154,7 @@ impl CrossCodeReport {
         std::fs::create_dir_all(dir)?;
         let md = dir.join("cross_code.md");
         super::write_text(&md, &self.to_markdown())?;
-        let mut csv = String::from(
-            "variant,continuation,speed_m_s,wheelset,amplitude_mm\n",
-        );
+        let mut csv = String::from("variant,continuation,speed_m_s,wheelset,amplitude_mm\n");
         for v in &self.variants {
             for a in &v.dwell_amplitudes {
                 let _ = writeln!(

@@ -266,17 +266,16 @@ pub struct CrossCodeReport {
 
 /// The scene of one variant: the study's scene with the study's entries,
 /// the variant's vehicle and entries.
-pub fn variant_scene(
-    study: &StudyFile,
-    dir: &Path,
-    variant: &VariantEntry,
-) -> Result<LoadedScene> {
+pub fn variant_scene(study: &StudyFile, dir: &Path, variant: &VariantEntry) -> Result<LoadedScene> {
     let mut set = study.set.clone();
     if let Some(v) = &variant.vehicle {
         let path = dir.join(v);
         let abs = std::fs::canonicalize(&path)
             .with_context(|| format!("variant '{}': vehicle {}", variant.name, path.display()))?;
-        set.push(format!("vehicle.file={}", toml_string(&abs.display().to_string())));
+        set.push(format!(
+            "vehicle.file={}",
+            toml_string(&abs.display().to_string())
+        ));
     }
     set.extend(variant.set.iter().cloned());
     LoadedScene::load(&dir.join(&study.scene), &set)
@@ -360,7 +359,10 @@ fn run_variant(
             toml::Value::Float(n.start_lateral_m),
         )])
         .with_context(|| format!("variant '{}': the hunting start", v.name))?;
-    say(format!("{}: ramp {} → {} m/s", v.name, n.start_m_s, n.min_m_s));
+    say(format!(
+        "{}: ramp {} → {} m/s",
+        v.name, n.start_m_s, n.min_m_s
+    ));
     let ramp_settings = CriticalSpeedSettings {
         min_m_s: n.min_m_s,
         max_m_s: n.start_m_s,
@@ -462,7 +464,13 @@ fn amplitudes_near(
 /// A directory name for a variant: letters, digits and '_'.
 fn slug(name: &str) -> String {
     name.chars()
-        .map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '_' })
+        .map(|c| {
+            if c.is_ascii_alphanumeric() {
+                c.to_ascii_lowercase()
+            } else {
+                '_'
+            }
+        })
         .collect()
 }
 
@@ -496,7 +504,10 @@ name = "ours"
         let e = study(&GOOD.replace("start_m_s = 120.0", "start_m_s = 432.0"))
             .unwrap_err()
             .to_string();
-        assert!(e.contains("start_m_s") && e.contains("check the unit"), "{e}");
+        assert!(
+            e.contains("start_m_s") && e.contains("check the unit"),
+            "{e}"
+        );
         let e = study(&GOOD.replace("[60.0, 100.0]", "[30.0]"))
             .unwrap_err()
             .to_string();
