@@ -175,8 +175,14 @@ impl CrossCodeReport {
             "largest lateral cycle amplitude of any wheelset, step-and-dwell [mm]",
         );
         for (k, v) in self.variants.iter().filter(|v| v.plot).enumerate() {
-            let mut speeds: Vec<f64> = v.dwell_amplitudes.iter().map(|a| a.speed_m_s).collect();
-            speeds.dedup();
+            // The dwells in schedule order (the points are wheelset by
+            // wheelset, each in that order).
+            let speeds: Vec<f64> = v
+                .dwell_amplitudes
+                .iter()
+                .filter(|a| a.wheelset_index == 0)
+                .map(|a| a.speed_m_s)
+                .collect();
             let pts: Vec<(f64, f64)> = speeds
                 .iter()
                 .map(|s| {

@@ -257,6 +257,8 @@ impl<'a> VehicleSystem<'a> {
             internal_offsets,
             internal: vec![0.0; n_internal],
             internal_rates: vec![0.0; n_internal],
+            element_axes: Vec::new(),
+            imposed_power_w: 0.0,
             solvers,
             sources,
             s_guess,

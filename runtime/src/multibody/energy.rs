@@ -148,14 +148,14 @@ impl VehicleSystem<'_> {
         }
         let ground = Anchor::fixed(Vector3::zeros(), Matrix3::identity());
         for (idx, (el, spec)) in self.elements.iter().zip(&vehicle.elements).enumerate() {
-            let a = self
-                .anchor_index(spec.a)
-                .map_or(ground, |k| self.anchors[k]);
+            let ia = self.anchor_index(spec.a);
+            let a = ia.map_or(ground, |k| self.anchors[k]);
             let b = self
                 .anchor_index(spec.b)
                 .map_or(ground, |k| self.anchors[k]);
             let q = self.element_internal(idx);
-            e += el.potential_energy_j(&el.evaluate(&a, &b, q).deflection_m, q);
+            let axes = ia.and_then(|k| self.element_axes.get(k));
+            e += el.potential_energy_j(&el.evaluate_along(&a, &b, q, axes).deflection_m, q);
         }
         e + self.contact_elastic_energy_j()
     }
@@ -236,7 +236,10 @@ impl VehicleSystem<'_> {
             let a = ia.map_or(ground, |k| self.anchors[k]);
             let b = ib.map_or(ground, |k| self.anchors[k]);
             let q = self.element_internal(idx);
-            let f = el.evaluate(&a, &b, q);
+            // The axes the element acts along: a's, or the track's
+            // (`ElementAxes::Track`, kept by the last evaluation).
+            let axes = ia.and_then(|k| self.element_axes.get(k));
+            let f = el.evaluate_along(&a, &b, q, axes);
             // Velocity of a point p of an anchor: v + ω × (p − origin).
             let point_velocity = |an: &Anchor, point: &Vector3<f64>| {
                 an.velocity_m_s + an.angular_velocity_rad_s.cross(&(point - an.position_m))
@@ -253,10 +256,14 @@ impl VehicleSystem<'_> {
             // The elements' directions turn with a: their forces on the
             // bodies do F_b·(ω_a × (p_b − p_a)) more work than their
             // potential and dampers account for.
+            let turning = axes.map_or(a.angular_velocity_rad_s, |x| x.angular_velocity_rad_s);
             p[5] += f
                 .force_on_b_n
-                .dot(&a.angular_velocity_rad_s.cross(&(f.point_b_m - f.point_a_m)));
+                .dot(&turning.cross(&(f.point_b_m - f.point_a_m)));
         }
+        // The imposed longitudinal motion's constraint is driven like the
+        // references (`LongitudinalMotion::Imposed`).
+        p[1] += self.imposed_power_w;
         p
     }
 }

@@ -202,44 +202,37 @@ impl VehicleSystem<'_> {
         // Element axes of the published formulation: the track frame at
         // each body's nominal station (`ElementAxes::Track`); references
         // already have those axes.
-        let track_axes: Option<Vec<Anchor>> =
-            if self.settings.formulation.element_axes == ElementAxes::Track {
-                let speed = self.speed_at_m_s(t);
-                let stations = vehicle
-                    .wheelsets
-                    .iter()
-                    .map(|w| (w.name.as_str(), w.x_m))
-                    .chain(vehicle.bodies.iter().map(|b| (b.name.as_str(), b.cg_m.x)));
-                let mut axes = Vec::with_capacity(n_bodies);
-                for (name, x) in stations {
-                    axes.push(
-                        reference_anchor(
-                            c,
-                            s_vehicle,
-                            &Vector3::new(x, 0.0, 0.0),
-                            speed,
-                            REFERENCE_DS_M,
-                        )
-                        .map_err(|source| DynamicsError::Track {
-                            what: format!("the track axes of '{name}'"),
-                            t_s: t,
-                            source,
-                        })?,
-                    );
-                }
-                Some(axes)
-            } else {
-                None
-            };
+        self.element_axes.clear();
+        if self.settings.formulation.element_axes == ElementAxes::Track {
+            let speed = self.speed_at_m_s(t);
+            let stations = vehicle
+                .wheelsets
+                .iter()
+                .map(|w| (w.name.as_str(), w.x_m))
+                .chain(vehicle.bodies.iter().map(|b| (b.name.as_str(), b.cg_m.x)));
+            for (name, x) in stations {
+                let axes = reference_anchor(
+                    c,
+                    s_vehicle,
+                    &Vector3::new(x, 0.0, 0.0),
+                    speed,
+                    REFERENCE_DS_M,
+                )
+                .map_err(|source| DynamicsError::Track {
+                    what: format!("the track axes of '{name}'"),
+                    t_s: t,
+                    source,
+                })?;
+                self.element_axes.push(axes);
+            }
+        }
         for (idx, (e, spec)) in self.elements.iter().zip(&vehicle.elements).enumerate() {
             let ia = self.anchor_index(spec.a);
             let ib = self.anchor_index(spec.b);
             let a = ia.map_or(ground, |k| self.anchors[k]);
             let b = ib.map_or(ground, |k| self.anchors[k]);
-            let axes = match (&track_axes, ia) {
-                (Some(axes), Some(k)) if k < n_bodies => Some(&axes[k]),
-                _ => None,
-            };
+            // Only body anchors have track axes; references' are the track's.
+            let axes = ia.and_then(|k| self.element_axes.get(k));
             let (start, len) = (self.internal_offsets[idx], e.internal_len());
             let f = e.evaluate_along(&a, &b, &self.internal[start..start + len], axes);
             self.internal_rates[start..start + len].copy_from_slice(&f.internal_rate_m_s[..len]);

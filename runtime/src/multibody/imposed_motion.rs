@@ -18,7 +18,8 @@ impl VehicleSystem<'_> {
     /// Replaces the tangential component of every body's centre-of-mass
     /// acceleration in `dydt` by the references' dV/dt at `t`
     /// ([`LongitudinalMotion::Imposed`]), the tangent that of the track at
-    /// the body's projection.
+    /// the body's projection. The constraint's power is kept for the energy
+    /// ledger, booked with the references' work (docs/reference/08-multibody.md §8.6).
     pub(super) fn impose_longitudinal_motion(
         &mut self,
         t: f64,
@@ -31,6 +32,13 @@ impl VehicleSystem<'_> {
         let vehicle = self.vehicle();
         let n_ws = vehicle.wheelsets.len();
         let s_vehicle = self.s_vehicle_m(t);
+        let masses: Vec<f64> = vehicle
+            .wheelsets
+            .iter()
+            .map(|w| w.body.mass_kg)
+            .chain(vehicle.bodies.iter().map(|b| b.body.mass_kg))
+            .collect();
+        let mut power_w = 0.0;
         let guesses: Vec<(String, f64)> = vehicle
             .wheelsets
             .iter()
@@ -61,9 +69,14 @@ impl VehicleSystem<'_> {
                 .into_owned();
             let slot = &mut dydt[BodyState::slot(k)];
             let mut accel = nalgebra::Vector3::new(slot[7], slot[8], slot[9]);
+            // The constraint's force along the tangent, m (dV/dt − a_t),
+            // and its power on the body's velocity.
+            let constraint_n = masses[k] * (rate_m_s2 - accel.dot(&tangent));
+            power_w += constraint_n * self.states[k].velocity_m_s.dot(&tangent);
             accel += tangent * (rate_m_s2 - accel.dot(&tangent));
             slot[7..10].copy_from_slice(accel.as_slice());
         }
+        self.imposed_power_w = power_w;
         Ok(())
     }
 }

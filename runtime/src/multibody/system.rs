@@ -100,6 +100,12 @@ pub struct VehicleSystem<'a> {
     pub(super) snapshots: Vec<WheelsetSnapshot>,
     pub(super) states: Vec<BodyState>,
     pub(super) anchors: Vec<Anchor>,
+    /// The axes the elements act along when they are the track's
+    /// (`ElementAxes::Track`), per body anchor; empty otherwise.
+    pub(super) element_axes: Vec<Anchor>,
+    /// Power of the imposed longitudinal motion's constraint at the last
+    /// evaluation (W; `LongitudinalMotion::Imposed`, else 0).
+    pub(super) imposed_power_w: f64,
     pub(super) wrenches: Vec<Wrench>,
     pub(super) counters: RunCounters,
     pub(super) flange_states: Vec<[u64; 2]>,
@@ -265,6 +271,7 @@ impl OdeSystem for VehicleSystem<'_> {
                 &mut dydt[BodyState::slot(k)],
             );
         }
+        self.imposed_power_w = 0.0;
         if self.settings.formulation.longitudinal_motion == LongitudinalMotion::Imposed {
             self.impose_longitudinal_motion(t, dydt)?;
         }
