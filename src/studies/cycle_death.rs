@@ -7,7 +7,8 @@
 //!
 //! The rule per wheelset (the same as the leading wheelset's before): the
 //! cycle's saturated amplitude is the [`SATURATION_QUANTILE`] quantile of
-//! its peak amplitudes (robust to the impacts of the run-up); the cycle
+//! its peak amplitudes of at least [`MIN_CYCLE_M`] (robust to the impacts
+//! of the run-up, and to the many small peaks after an early death); the cycle
 //! dies after the last peak of at least [`DEATH_FRACTION`] of it; a
 //! saturated amplitude below [`MIN_CYCLE_M`] is no cycle.
 
@@ -97,7 +98,14 @@ pub fn wheelset_death(
     peaks: &[Peak],
     lowest_m_s: f64,
 ) -> WheelsetDeath {
-    let mut amps: Vec<f64> = peaks.iter().map(|p| p.amplitude_m).collect();
+    // The cycle's peaks only: a cycle that dies early in a long run leaves
+    // far more decayed peaks (or dwells) than cycle peaks, and a quantile
+    // over all of them would be one of the decayed ones.
+    let mut amps: Vec<f64> = peaks
+        .iter()
+        .map(|p| p.amplitude_m)
+        .filter(|a| *a >= MIN_CYCLE_M)
+        .collect();
     amps.sort_by(f64::total_cmp);
     let saturated = amps
         .get((amps.len() as f64 * SATURATION_QUANTILE) as usize)
@@ -112,7 +120,7 @@ pub fn wheelset_death(
     // lowest speed, has not died within the run.
     let (fate, death) = match last {
         // (A NaN amplitude is no cycle either.)
-        _ if saturated.is_nan() || saturated <= MIN_CYCLE_M => (CycleFate::NoCycle, None),
+        _ if saturated.is_nan() || saturated < MIN_CYCLE_M => (CycleFate::NoCycle, None),
         Some((k, p)) if k + 1 < peaks.len() && p.speed_m_s > lowest_m_s + 1e-9 => {
             (CycleFate::Died, Some(*p))
         }
@@ -326,6 +334,25 @@ pub(crate) mod tests {
         assert_eq!(all.speed_m_s, None);
         assert!(all.note.unwrap().contains("no limit cycle of any wheelset"));
         assert!(all.wheelsets.iter().all(|w| w.fate == CycleFate::NoCycle));
+    }
+
+    #[test]
+    fn an_early_death_in_a_long_run_is_found() {
+        // 16 dwells of a 4 mm cycle, then 145 dwells of a decayed motion
+        // (µm and below, each above the plotting floor): the saturated
+        // amplitude is the cycle's, not a decayed dwell's, so the cycle
+        // dies at the 16th dwell's speed.
+        let peaks: Vec<Peak> = (0..161)
+            .map(|k| Peak {
+                t_s: 11.0 * k as f64,
+                speed_m_s: 120.0 - 0.5 * k as f64,
+                amplitude_m: if k < 16 { 4e-3 } else { 1e-6 / (k as f64) },
+            })
+            .collect();
+        let d = wheelset_death("front", 0, &peaks, 40.0);
+        assert_eq!(d.fate, CycleFate::Died);
+        assert_eq!(d.death_m_s, Some(112.5));
+        assert!((d.saturated_mm - 4.0).abs() < 1e-12);
     }
 
     #[test]
