@@ -259,6 +259,7 @@ impl<'a> VehicleSystem<'a> {
             internal_rates: vec![0.0; n_internal],
             element_axes: Vec::new(),
             imposed_power_w: 0.0,
+            formulation_power_w: 0.0,
             solvers,
             sources,
             s_guess,

@@ -261,9 +261,11 @@ impl VehicleSystem<'_> {
                 .force_on_b_n
                 .dot(&turning.cross(&(f.point_b_m - f.point_a_m)));
         }
-        // The imposed longitudinal motion's constraint is driven like the
-        // references (`LongitudinalMotion::Imposed`).
-        p[1] += self.imposed_power_w;
+        // What a published formulation imposes from outside the model's
+        // forces is driven like the references: the imposed longitudinal
+        // motion's constraint, and the extra wheelset moments (gyroscopic,
+        // roll arm; docs/reference/08-multibody.md §8.6).
+        p[1] += self.imposed_power_w + self.formulation_power_w;
         p
     }
 }

@@ -47,6 +47,7 @@ impl VehicleSystem<'_> {
         let vehicle = self.vehicle;
         let c = &track.centerline;
         let n_ws = vehicle.wheelsets.len();
+        self.formulation_power_w = 0.0;
         for (i, w) in vehicle.wheelsets.iter().enumerate() {
             let st = BodyState::read_from(&y[BodyState::slot(i)]);
             let s = project_s(c, &st.position_m, self.s_guess[i]).map_err(|source| {
@@ -132,13 +133,15 @@ impl VehicleSystem<'_> {
                         wrench.add_force_at(&st.position_m, &f.point_m, &f.force_on_wheel_n);
                         wrench.add_moment(&f.moment_on_wheel_nm);
                         if self.settings.formulation.roll_moment == RollMoment::AxleArmOnly {
-                            wrench.add_moment(&roll_arm_correction(
+                            let m = roll_arm_correction(
                                 &st.position_m,
                                 &axle,
                                 &roll_axis,
                                 &f.point_m,
                                 &f.force_on_wheel_n,
-                            ));
+                            );
+                            self.formulation_power_w += m.dot(&omega);
+                            wrench.add_moment(&m);
                         }
                         *pending = f.normal.next_memory;
                         *force_slot = Some(f);
@@ -146,12 +149,10 @@ impl VehicleSystem<'_> {
                 }
             }
             if self.settings.formulation.gyroscopic == GyroscopicMoments::AxleFrameEuler {
-                wrench.add_moment(&axle_frame_euler_correction(
-                    &rotation,
-                    &w.body.inertia_kg_m2,
-                    &omega,
-                    &axle,
-                ));
+                let m =
+                    axle_frame_euler_correction(&rotation, &w.body.inertia_kg_m2, &omega, &axle);
+                self.formulation_power_w += m.dot(&omega);
+                wrench.add_moment(&m);
             }
             // Axle torque: drive (constant) and friction brake (module docs
             // of `SystemSettings::axle_brake_torque_nm`), about the axle.

@@ -106,6 +106,10 @@ pub struct VehicleSystem<'a> {
     /// Power of the imposed longitudinal motion's constraint at the last
     /// evaluation (W; `LongitudinalMotion::Imposed`, else 0).
     pub(super) imposed_power_w: f64,
+    /// Power of the published formulation's extra wheelset moments
+    /// (`GyroscopicMoments::AxleFrameEuler`, `RollMoment::AxleArmOnly`) at
+    /// the last evaluation (W).
+    pub(super) formulation_power_w: f64,
     pub(super) wrenches: Vec<Wrench>,
     pub(super) counters: RunCounters,
     pub(super) flange_states: Vec<[u64; 2]>,
