@@ -216,7 +216,7 @@ pub fn cycle_deaths(
 }
 
 /// The peaks of every wheelset's lateral motion in `r` (extrema refined by
-/// a parabola, [`super::critical_speed::extrema`]), each at the speed
+/// a parabola, `critical_speed::extrema`), each at the speed
 /// `speed_at(t)` (m/s), above `floor_m`.
 pub fn wheelset_peaks(
     r: &RunResults,
