@@ -350,15 +350,15 @@ fn run_session(
             scene.contact.flange.to_string().into(),
         ),
         ("integrator".into(), scene.run.integrator.to_string().into()),
-        (
-            "formulation".into(),
-            if scene.formulation.describe().is_empty() {
+        ("formulation".into(), {
+            let switches = scene.formulation.describe();
+            if switches.is_empty() {
                 "ours".to_string()
             } else {
-                scene.formulation.describe().join("; ")
+                switches.join("; ")
             }
-            .into(),
-        ),
+            .into()
+        }),
         ("speed_m_s".into(), scene.initial.speed_m_s.into()),
         ("track".into(), session.track_source.path.clone().into()),
         ("plan".into(), plan.to_text().into()),

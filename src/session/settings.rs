@@ -33,6 +33,7 @@ pub fn system_settings(
         poisson: scene.contact.poisson,
     };
     let creep_law = scene.creep_law()?;
+    let formulation = scene.formulation.resolve();
     let method = match scene.contact.method {
         ContactMethodKind::Table => {
             let declared = scene.track.declared_rail_cant()?.map(|c| c.angle_rad);
@@ -57,8 +58,8 @@ pub fn system_settings(
             ContactMethod::Imported(ImportedContactMethod {
                 tables: vec![table; vfile.wheelsets.len()],
                 shear_modulus_override_pa: scene.contact.shear_modulus_pa,
-                interpolation: scene.formulation.resolve().table_interpolation,
-                normal: scene.formulation.resolve().contact_normal,
+                interpolation: formulation.table_interpolation,
+                normal: formulation.contact_normal,
             })
         }
         ContactMethodKind::Online => ContactMethod::Online,
@@ -83,7 +84,7 @@ pub fn system_settings(
             ..ContactOptions::default()
         },
         method,
-        formulation: scene.formulation.resolve().equations,
+        formulation: formulation.equations,
         ..scene.motion_settings()
     };
     Ok(settings)

@@ -32,37 +32,27 @@ impl VehicleSystem<'_> {
         let vehicle = self.vehicle();
         let n_ws = vehicle.wheelsets.len();
         let s_vehicle = self.s_vehicle_m(t);
-        let masses: Vec<f64> = vehicle
-            .wheelsets
-            .iter()
-            .map(|w| w.body.mass_kg)
-            .chain(vehicle.bodies.iter().map(|b| b.body.mass_kg))
-            .collect();
         let mut power_w = 0.0;
-        let guesses: Vec<(String, f64)> = vehicle
-            .wheelsets
-            .iter()
-            .enumerate()
-            .map(|(i, w)| (w.name.clone(), self.s_guess[i]))
-            .chain(
-                vehicle
-                    .bodies
-                    .iter()
-                    .map(|b| (b.name.clone(), s_vehicle + b.cg_m.x)),
-            )
-            .collect();
-        for (k, (name, guess)) in guesses.into_iter().enumerate() {
+        for k in 0..n_ws + vehicle.bodies.len() {
             let track_error = |source| DynamicsError::Track {
                 what: if k < n_ws {
-                    format!("wheelset '{name}'")
+                    format!("wheelset '{}'", vehicle.wheelsets[k].name)
                 } else {
-                    format!("body '{name}'")
+                    format!("body '{}'", vehicle.bodies[k - n_ws].name)
                 },
                 t_s: t,
                 source,
             };
-            let position = self.states[k].position_m;
-            let s = project_s(c, &position, guess).map_err(track_error)?;
+            // A wheelset's s is the one `evaluate` projected for this state;
+            // a body is projected from its nominal station.
+            let (s, mass_kg) = if k < n_ws {
+                (self.s_guess[k], vehicle.wheelsets[k].body.mass_kg)
+            } else {
+                let b = &vehicle.bodies[k - n_ws];
+                let position = self.states[k].position_m;
+                let s = project_s(c, &position, s_vehicle + b.cg_m.x).map_err(track_error)?;
+                (s, b.body.mass_kg)
+            };
             let tangent = track_rotation(c, s)
                 .map_err(track_error)?
                 .column(0)
@@ -71,9 +61,9 @@ impl VehicleSystem<'_> {
             let mut accel = nalgebra::Vector3::new(slot[7], slot[8], slot[9]);
             // The constraint's force along the tangent, m (dV/dt − a_t),
             // and its power on the body's velocity.
-            let constraint_n = masses[k] * (rate_m_s2 - accel.dot(&tangent));
+            let constraint_n = mass_kg * (rate_m_s2 - accel.dot(&tangent));
             power_w += constraint_n * self.states[k].velocity_m_s.dot(&tangent);
-            accel += tangent * (rate_m_s2 - accel.dot(&tangent));
+            accel += tangent * (constraint_n / mass_kg);
             slot[7..10].copy_from_slice(accel.as_slice());
         }
         self.imposed_power_w = power_w;
