@@ -145,6 +145,10 @@ choice! {
         Rk4 = "rk4",
         /// Dormand–Prince 5(4), adaptive (`rtol`, `atol`, `max_step_s`).
         Dopri5 = "dopri5",
+        /// Linearly implicit Rosenbrock-W ROS34PW2, adaptive (`rtol`,
+        /// `atol`, `max_step_s`): for the stiff contact modes
+        /// (docs/reference/08-multibody.md §8.6).
+        Rosenbrock = "rosenbrock",
     }
 }
 

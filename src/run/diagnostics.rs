@@ -34,6 +34,7 @@ use std::ops::{Deref, DerefMut};
 
 use runtime::contact::ContactError;
 use runtime::forces::hertz::HertzError;
+use runtime::integrators::JacobianBlocks;
 use runtime::integrators::{Control, IntegrationStats, IntegratorError, OdeSystem};
 use runtime::multibody::body::BodyState;
 use runtime::multibody::contact_force::ContactForceError;
@@ -123,6 +124,14 @@ impl OdeSystem for Watched<'_, '_> {
 
     fn accept(&mut self, t: f64, y: &[f64]) -> Result<Control, DynamicsError> {
         self.system.accept(t, y)
+    }
+
+    fn jacobian_blocks(&self, n: usize) -> JacobianBlocks {
+        self.system.jacobian_blocks(n)
+    }
+
+    fn structure_changed(&mut self) -> bool {
+        self.system.structure_changed()
     }
 }
 

@@ -155,6 +155,10 @@ pub fn step_advice(method: &Method) -> String {
             "tighten run.rtol (now {:e}) or lower run.max_step_s (now {:e} s)",
             d.rtol, d.max_step_s
         ),
+        Method::Rosenbrock(d) => format!(
+            "tighten run.rtol (now {:e}) and run.atol (now {:e}) or lower run.max_step_s (now {:e} s)",
+            d.rtol, d.atol, d.max_step_s
+        ),
     }
 }
 

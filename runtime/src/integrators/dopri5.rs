@@ -548,6 +548,7 @@ pub(super) fn integrate_dopri5<S: OdeSystem>(
         steps,
         rejected,
         rhs_evaluations: evaluations,
+        jacobian_evaluations: 0,
         outputs: cursor.emitted,
         t_end_reached: t,
         stopped,

@@ -1,6 +1,9 @@
 //! Time integrators for the multibody equations of motion (docs/reference/08-multibody.md §8):
-//! fixed-step classical Runge–Kutta (RK4) and adaptive Dormand–Prince 5(4)
-//! (DOPRI5) with dense output, behind one entry point, [`integrate`].
+//! fixed-step classical Runge–Kutta (RK4), adaptive Dormand–Prince 5(4)
+//! (DOPRI5) and, for the stiff contact modes, the adaptive linearly
+//! implicit Rosenbrock-W method ROS34PW2 with a block-diagonal
+//! finite-difference Jacobian ([`rosenbrock`], docs/reference/08-multibody.md §8.6), all with dense
+//! output, behind one entry point, [`integrate`].
 //!
 //! # Why hand-written rather than a crate
 //!
@@ -63,10 +66,14 @@
 //! [`IntegratorError::System`].
 
 pub mod dopri5;
+pub mod jacobian;
 pub mod rk4;
+pub mod rosenbrock;
 
 pub use dopri5::Dopri5;
+pub use jacobian::JacobianBlocks;
 pub use rk4::Rk4;
+pub use rosenbrock::{JacobianApprox, Rosenbrock};
 
 /// What the right-hand side tells the integrator after an accepted state.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -96,6 +103,22 @@ pub trait OdeSystem {
     /// that evaluation computed), the initial state included. Returning
     /// [`Control::Stop`] ends the integration after this state.
     fn accept(&mut self, t: f64, y: &[f64]) -> Result<Control, Self::Error>;
+
+    /// The diagonal blocks of the Jacobian the stiff integrator
+    /// approximates, and which of them may be perturbed together
+    /// ([`jacobian`] module docs). Default: one dense block over all `n`
+    /// components.
+    fn jacobian_blocks(&self, n: usize) -> JacobianBlocks {
+        JacobianBlocks::dense(n)
+    }
+
+    /// Called right after [`Self::accept`]: whether the system's structure
+    /// changed since the previous call (a contact opened or closed, a flange
+    /// came into contact), so that the stiff integrator renews its Jacobian
+    /// there and does not grow the next step. Default: never.
+    fn structure_changed(&mut self) -> bool {
+        false
+    }
 }
 
 /// The output callback of [`integrate`]: `observer(system, t, y)` at each
@@ -111,6 +134,9 @@ pub enum Method {
     Rk4(Rk4),
     /// Adaptive Dormand–Prince 5(4) with 4th-order dense output.
     Dopri5(Dopri5),
+    /// Adaptive linearly implicit Rosenbrock-W ROS34PW2 (order 3) for
+    /// stiff systems, with cubic Hermite dense output.
+    Rosenbrock(Rosenbrock),
 }
 
 /// Output times t0 + k·`interval_s` (k = 0, 1, …) before the final time,
@@ -132,8 +158,11 @@ pub struct IntegrationStats {
     pub rejected: u64,
     /// Right-hand-side evaluations made by the integrator (the observer's
     /// own calls are not counted). RK4: 4·steps + 1; DOPRI5: 6·(steps +
-    /// rejected) + 1, + 1 for the initial-step heuristic.
+    /// rejected) + 1, + 1 for the initial-step heuristic; Rosenbrock: 3 per
+    /// attempt + 1 per accepted step + 1, plus the Jacobians' evaluations.
     pub rhs_evaluations: u64,
+    /// Finite-difference Jacobians evaluated (Rosenbrock; 0 otherwise).
+    pub jacobian_evaluations: u64,
     /// Observer calls (output times, the final one included).
     pub outputs: u64,
     /// The time of the last accepted state (s): t_end, or the stop time.
@@ -201,6 +230,9 @@ pub fn integrate<S: OdeSystem>(
         }
         Method::Dopri5(settings) => {
             dopri5::integrate_dopri5(settings, system, t0, y0, t_end, output, observer)
+        }
+        Method::Rosenbrock(settings) => {
+            rosenbrock::integrate_rosenbrock(settings, system, t0, y0, t_end, output, observer)
         }
     }
 }
@@ -412,10 +444,11 @@ mod tests {
         times
     }
 
-    fn methods() -> [Method; 2] {
+    fn methods() -> [Method; 3] {
         [
             Method::Rk4(Rk4 { step_s: 0.07 }),
             Method::Dopri5(Dopri5::default()),
+            Method::Rosenbrock(Rosenbrock::default()),
         ]
     }
 

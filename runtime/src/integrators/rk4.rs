@@ -245,6 +245,7 @@ pub(super) fn integrate_rk4<S: OdeSystem>(
         steps,
         rejected: 0,
         rhs_evaluations: evaluations,
+        jacobian_evaluations: 0,
         outputs: cursor.emitted,
         t_end_reached: t,
         stopped,

@@ -5,6 +5,7 @@
 
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
+use super::axle_frame::check_axisymmetric;
 use super::contact_source::ContactContext;
 use super::error::DynamicsError;
 use super::settings::{InitialConditions, SystemSettings};
@@ -60,10 +61,13 @@ impl<'a> VehicleSystem<'a> {
             }
         }
         for w in &vehicle.wheelsets {
-            w.body.validate().map_err(|source| DynamicsError::Body {
-                name: w.name.clone(),
-                source,
-            })?;
+            w.body
+                .validate()
+                .and_then(|()| check_axisymmetric(&w.body))
+                .map_err(|source| DynamicsError::Body {
+                    name: w.name.clone(),
+                    source,
+                })?;
         }
         for b in &vehicle.bodies {
             b.body.validate().map_err(|source| DynamicsError::Body {
@@ -281,6 +285,7 @@ impl<'a> VehicleSystem<'a> {
             ramp: settings.speed_profile(),
             ledger: None,
             track_end_reached: false,
+            contact_pattern: Vec::new(),
             settings,
         };
         Ok((system, y0))

@@ -93,6 +93,16 @@ pub enum BodyError {
         "inertia violates the triangle inequality: principal moments {principal_kg_m2:?} kg·m², each must be <= the sum of the other two"
     )]
     TriangleInequality { principal_kg_m2: [f64; 3] },
+    /// A wheelset's inertia is not that of a body of revolution about its
+    /// axle (`axle_frame::check_axisymmetric`).
+    #[error(
+        "a wheelset is a body of revolution about its axle (body y): its roll inertia {roll_kg_m2} kg·m² must equal its yaw inertia {yaw_kg_m2} kg·m² and its products of inertia be 0 (largest {largest_product_kg_m2} kg·m²)"
+    )]
+    NotAxisymmetric {
+        roll_kg_m2: f64,
+        yaw_kg_m2: f64,
+        largest_product_kg_m2: f64,
+    },
 }
 
 /// Mass properties of a rigid body.

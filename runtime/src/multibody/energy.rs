@@ -12,8 +12,14 @@ use crate::multibody::element::Anchor;
 /// Energy bookkeeping of a run (J): the mechanical energy E
 /// ([`VehicleSystem::mechanical_energy_j`]) at the first and the last
 /// accepted state, and the work of every non-conservative force between
-/// them, integrated over the accepted states by the trapezoidal rule
-/// (second order in the step). Balance (work–energy theorem):
+/// them, integrated over the accepted states: over each step, the integral
+/// of the quadratic through the powers at the step's two ends and the
+/// accepted state before it (the variable-step 3-point Adams–Moulton rule,
+/// third order in the step; Hairer, Nørsett & Wanner, *Solving ODEs I*,
+/// §III.5), the trapezoidal rule on the first step. The stiff integrator's
+/// steps of several milliseconds need the third order: on the Cooperrider
+/// car at 8 ms steps the trapezoidal rule alone leaves 1 % of the damper
+/// work unexplained. Balance (work–energy theorem):
 ///
 /// E − E0 = W_torque + W_references + W_turning + W_normal − D_creep − D_contact − D_dampers,
 ///
@@ -73,6 +79,8 @@ pub struct EnergyLedger {
     /// references, creep, contact damping, dampers, element turning,
     /// elastic normal forces.
     last: Option<(f64, [f64; N_POWERS])>,
+    /// The same at the accepted state before it.
+    before_last: Option<(f64, [f64; N_POWERS])>,
 }
 
 /// Number of powers of [`VehicleSystem::powers_w`].
@@ -110,7 +118,13 @@ impl EnergyLedger {
                 self.initial_contact_elastic_j = contact_elastic_j;
             }
             Some((t0, p0)) => {
-                let w = |k: usize| 0.5 * (p0[k] + p[k]) * (t_s - t0);
+                let h2 = t_s - t0;
+                let w = |k: usize| match self.before_last {
+                    Some((tm, pm)) if t0 > tm && h2 > 0.0 => {
+                        step_integral(t0 - tm, h2, pm[k], p0[k], p[k])
+                    }
+                    _ => 0.5 * (p0[k] + p[k]) * h2,
+                };
                 self.axle_torque_work_j += w(0);
                 self.reference_work_j += w(1);
                 self.creep_dissipation_j += w(2);
@@ -123,7 +137,40 @@ impl EnergyLedger {
         self.contact_normal_work_j =
             self.normal_force_work_j + contact_elastic_j - self.initial_contact_elastic_j;
         self.energy_j = energy_j;
+        self.before_last = self.last;
         self.last = Some((t_s, p));
+    }
+}
+
+/// ∫ over [t_n, t_n + h2] of the quadratic through (t_n − h1, p_m),
+/// (t_n, p0), (t_n + h2, p1) (s, W → J): with τ = t − t_n, p = p0 + bτ + cτ²,
+/// c = (h1 (p1 − p0) + h2 (p_m − p0)) / (h1 h2 (h1 + h2)),
+/// b = ((p1 − p0) − c h2²) / h2. Equal steps give h (5 p1 + 8 p0 − p_m)/12.
+fn step_integral(h1: f64, h2: f64, p_m: f64, p0: f64, p1: f64) -> f64 {
+    let (d1, d2) = (p_m - p0, p1 - p0);
+    let c = (h1 * d2 + h2 * d1) / (h1 * h2 * (h1 + h2));
+    let b = (d2 - c * h2 * h2) / h2;
+    p0 * h2 + b * h2 * h2 / 2.0 + c * h2 * h2 * h2 / 3.0
+}
+
+#[cfg(test)]
+mod quadrature_tests {
+    use super::step_integral;
+
+    /// Exact for quadratics on unequal steps; the equal-step weights.
+    #[test]
+    fn the_step_integral_is_exact_for_quadratics() {
+        let p = |t: f64| 3.0 - 2.0 * t + 5.0 * t * t;
+        let (tm, t0, t1) = (0.1, 0.4, 0.45);
+        let exact = |a: f64, b: f64| {
+            let f = |t: f64| 3.0 * t - t * t + 5.0 / 3.0 * t * t * t;
+            f(b) - f(a)
+        };
+        let q = step_integral(t0 - tm, t1 - t0, p(tm), p(t0), p(t1));
+        assert!((q - exact(t0, t1)).abs() < 1e-14, "{q}");
+        let h = 0.2;
+        let q = step_integral(h, h, 1.0, 0.0, 0.0);
+        assert!((q - (-h / 12.0)).abs() < 1e-15, "{q}");
     }
 }
 

@@ -35,6 +35,7 @@
 //! the non-spinning axle frame.
 
 mod assemble;
+pub mod axle_frame;
 pub mod body;
 pub mod body_record;
 pub mod contact_force;

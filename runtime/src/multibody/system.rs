@@ -23,6 +23,7 @@ use crate::forces::normal::ContactMemory;
 use crate::geometry::profile::{MAX_SEGMENTS, Zone};
 use crate::geometry::track::{Side, TrackTables};
 use crate::integrators::{Control, OdeSystem};
+use crate::multibody::axle_frame::axle_frame_derivatives;
 use crate::multibody::body::{BodyState, Wrench, derivatives};
 use crate::multibody::contact_force::ContactForce;
 use crate::multibody::element::{Anchor, SpringDamper};
@@ -125,6 +126,9 @@ pub struct VehicleSystem<'a> {
     /// came within [`TRACK_END_MARGIN_M`] of the end of the tables (or
     /// [`TRACK_START_MARGIN_M`] of their start).
     pub(super) track_end_reached: bool,
+    /// Per contact candidate at the last accepted state: 0 apart, 1 in
+    /// contact on the tread, 2 on the flange ([`OdeSystem::structure_changed`]).
+    pub(super) contact_pattern: Vec<u8>,
 }
 
 /// A run stops when the vehicle reference point or a wheelset comes this
@@ -266,8 +270,16 @@ impl OdeSystem for VehicleSystem<'_> {
             .iter()
             .map(|w| &w.body)
             .chain(vehicle.bodies.iter().map(|b| &b.body));
+        // Wheelsets in their axle frame (docs/reference/08-multibody.md
+        // §8.7), the other bodies in body axes.
+        let n_ws = vehicle.wheelsets.len();
         for (k, body) in bodies.enumerate() {
-            derivatives(
+            let f = if k < n_ws {
+                axle_frame_derivatives
+            } else {
+                derivatives
+            };
+            f(
                 body,
                 &self.states[k],
                 &self.wrenches[k],
@@ -335,5 +347,31 @@ impl OdeSystem for VehicleSystem<'_> {
         } else {
             Control::Continue
         })
+    }
+
+    /// Which contact candidates touch, and in which zone, at the accepted
+    /// state, against the previous call's (the stiff integrator renews its
+    /// Jacobian where it changed).
+    fn structure_changed(&mut self) -> bool {
+        let first = self.contact_pattern.is_empty();
+        let mut changed = false;
+        let mut k = 0;
+        for snap in &self.snapshots {
+            for c in snap.contacts.candidates.iter().flatten() {
+                let code = match c {
+                    Some(c) if c.in_contact() && c.zone == Zone::Flange => 2u8,
+                    Some(c) if c.in_contact() => 1,
+                    _ => 0,
+                };
+                if first {
+                    self.contact_pattern.push(code);
+                } else if self.contact_pattern[k] != code {
+                    self.contact_pattern[k] = code;
+                    changed = true;
+                }
+                k += 1;
+            }
+        }
+        changed
     }
 }

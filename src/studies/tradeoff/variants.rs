@@ -115,10 +115,11 @@ fn scene_settings(scene: &Scene) -> Vec<String> {
         format!("run.integrator=\"{}\"", scene.run.integrator),
         format!("run.step_s={}", scene.run.step_s),
     ];
-    if scene.run.integrator == IntegratorKind::Dopri5 {
-        v.push(format!("run.rtol={}", scene.run.rtol));
-        v.push(format!("run.atol={}", scene.run.atol));
-        v.push(format!("run.max_step_s={}", scene.run.max_step_s));
+    if scene.run.integrator != IntegratorKind::Rk4 {
+        let (rtol, atol, max_step_s) = scene.run.tolerances();
+        v.push(format!("run.rtol={rtol}"));
+        v.push(format!("run.atol={atol}"));
+        v.push(format!("run.max_step_s={max_step_s}"));
     }
     v
 }

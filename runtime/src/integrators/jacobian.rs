@@ -1,0 +1,368 @@
+//! The approximate Jacobian of the stiff integrator ([`super::rosenbrock`]):
+//! its block structure, its finite-difference evaluation and the
+//! factorisation of the iteration matrix W = I/(hγ) − J, block by block.
+//!
+//! # Block-diagonal structure (docs/reference/08-multibody.md §8.6)
+//!
+//! A Rosenbrock-W method keeps its order with *any* matrix in place of the
+//! Jacobian ∂f/∂y (Steihaug & Wolfbrandt 1979; Hairer & Wanner, *Solving
+//! ODEs II*, §IV.7, "W-methods"); the matrix only decides which modes are
+//! treated implicitly, i.e. the method's stability. The stiff modes of a
+//! vehicle on the track — the creep damping of a wheelset's spin, lateral
+//! and yaw motion, the Hertzian contact stiffness — act on **one body's own
+//! states**: a wheelset's contact forces depend on that wheelset's state
+//! and the track only. So the system may declare diagonal **blocks** (one
+//! per body, one per element's internal states) and the Jacobian is
+//! approximated by its diagonal blocks ∂f_b/∂y_b; the coupling between
+//! bodies (the suspensions, far softer) is integrated explicitly by the
+//! method's stages. Components outside every block get a zero Jacobian row
+//! and column (treated explicitly).
+//!
+//! # Finite differences with simultaneous perturbation
+//!
+//! Blocks whose states do not act directly on each other's derivatives (two
+//! wheelsets: each one's forces depend on its own state, the frame's and the
+//! track's) are put in one **group** and perturbed together: column j of
+//! every block of the group is perturbed in the same evaluation and each
+//! block reads only its own rows, which no other block of the group
+//! disturbs (Curtis, Powell & Reid, "On the estimation of sparse Jacobian
+//! matrices", J. Inst. Math. Appl. 13 (1974) 117–119). A group costs as
+//! many evaluations as its largest block has columns: 13 for all the
+//! wheelsets of a car together. Forward differences with the increment
+//! δ_i = [`FD_RELATIVE_STEP`]·max(|y_i|, 1) (state units): large against the
+//! contact solve's convergence tolerance, small against the forces'
+//! nonlinearity — the Jacobian need not be accurate (W-method), only
+//! representative of the stiff modes.
+//!
+//! # Factorisation
+//!
+//! W = I/(hγ) − J is block diagonal too: each block gets an in-place LU
+//! factorisation with partial pivoting (Golub & Van Loan, *Matrix
+//! Computations*, 4th ed., Alg. 3.4.1), a few hundred flops for a 13×13
+//! block, redone whenever h or J changes; rows outside the blocks are
+//! I/(hγ). No allocation after construction.
+
+use std::ops::Range;
+
+use super::{IntegratorError, OdeSystem, eval};
+
+/// Relative finite-difference increment of the Jacobian's columns
+/// (module docs): δ_i = 1e-7·max(|y_i|, 1) — 0.1 µm on a lateral
+/// displacement, 2·10⁻⁶ m/s on a 20 m/s velocity.
+pub const FD_RELATIVE_STEP: f64 = 1e-7;
+
+/// Which diagonal blocks of the Jacobian the system asks the stiff
+/// integrator to approximate, and which blocks may be perturbed together
+/// (module docs).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct JacobianBlocks {
+    /// Disjoint ranges of state indices, each a diagonal block.
+    pub blocks: Vec<Range<usize>>,
+    /// Groups of indices into `blocks`; every block in exactly one group.
+    /// The blocks of a group must not act directly on each other's
+    /// derivatives.
+    pub groups: Vec<Vec<usize>>,
+}
+
+impl JacobianBlocks {
+    /// One dense block over all `n` components (n evaluations per
+    /// Jacobian).
+    pub fn dense(n: usize) -> Self {
+        Self {
+            blocks: vec![0..n],
+            groups: vec![vec![0]],
+        }
+    }
+
+    /// Whether the blocks are disjoint, inside 0..n, non-empty, and every
+    /// block is in exactly one group: the rule broken, if any.
+    pub fn check(&self, n: usize) -> Result<(), &'static str> {
+        let mut owner = vec![false; n];
+        for b in &self.blocks {
+            if b.start >= b.end || b.end > n {
+                return Err("every block must be a non-empty range inside the state");
+            }
+            for o in &mut owner[b.clone()] {
+                if *o {
+                    return Err("the blocks must be disjoint");
+                }
+                *o = true;
+            }
+        }
+        let mut seen = vec![0usize; self.blocks.len()];
+        for g in &self.groups {
+            for &b in g {
+                match seen.get_mut(b) {
+                    Some(s) => *s += 1,
+                    None => return Err("a group names a block that does not exist"),
+                }
+            }
+        }
+        if seen.iter().any(|&s| s != 1) {
+            return Err("every block must be in exactly one group");
+        }
+        Ok(())
+    }
+
+    /// Evaluations of one finite-difference Jacobian.
+    pub fn evaluations(&self) -> usize {
+        self.groups
+            .iter()
+            .map(|g| g.iter().map(|&b| self.blocks[b].len()).max().unwrap_or(0))
+            .sum()
+    }
+}
+
+/// The block-diagonal Jacobian and the LU factors of W, with scratch.
+pub(super) struct BlockJacobian {
+    layout: JacobianBlocks,
+    /// Row-major J blocks, one per block (len × len).
+    jac: Vec<Vec<f64>>,
+    /// Row-major LU factors of W per block, and the pivot rows.
+    lu: Vec<Vec<f64>>,
+    pivots: Vec<Vec<usize>>,
+    /// 1/(hγ) the factors were made for (0: none yet).
+    factored_for: f64,
+    y_pert: Vec<f64>,
+    f_pert: Vec<f64>,
+    rhs_scratch: Vec<f64>,
+    /// State indices outside every block.
+    outside: Vec<usize>,
+}
+
+impl BlockJacobian {
+    pub(super) fn new(layout: JacobianBlocks, n: usize) -> Self {
+        let sizes: Vec<usize> = layout.blocks.iter().map(|b| b.len()).collect();
+        let max = sizes.iter().copied().max().unwrap_or(0);
+        let outside = (0..n)
+            .filter(|i| !layout.blocks.iter().any(|r| r.contains(i)))
+            .collect();
+        Self {
+            outside,
+            jac: sizes.iter().map(|&m| vec![0.0; m * m]).collect(),
+            lu: sizes.iter().map(|&m| vec![0.0; m * m]).collect(),
+            pivots: sizes.iter().map(|&m| vec![0; m]).collect(),
+            layout,
+            factored_for: 0.0,
+            y_pert: vec![0.0; n],
+            f_pert: vec![0.0; n],
+            rhs_scratch: vec![0.0; max],
+        }
+    }
+
+    /// Forward-difference blocks at (t, y) with f0 = f(t, y) (module docs).
+    /// Returns the evaluations made.
+    pub(super) fn evaluate<S: OdeSystem>(
+        &mut self,
+        system: &mut S,
+        t: f64,
+        y: &[f64],
+        f0: &[f64],
+        evaluations: &mut u64,
+    ) -> Result<(), IntegratorError<S::Error>> {
+        self.y_pert.copy_from_slice(y);
+        for group in &self.layout.groups {
+            let width = group
+                .iter()
+                .map(|&b| self.layout.blocks[b].len())
+                .max()
+                .unwrap_or(0);
+            for j in 0..width {
+                for &b in group {
+                    let r = &self.layout.blocks[b];
+                    if j < r.len() {
+                        let i = r.start + j;
+                        self.y_pert[i] = y[i] + fd_step(y[i]);
+                    }
+                }
+                // A non-finite perturbed derivative leaves that column at
+                // zero (treated explicitly); the step's error control sees
+                // the trouble, if any, in the stages themselves.
+                let bad = eval(system, t, &self.y_pert, &mut self.f_pert, evaluations)?;
+                for &b in group {
+                    let r = self.layout.blocks[b].clone();
+                    if j >= r.len() {
+                        continue;
+                    }
+                    let i = r.start + j;
+                    let delta = self.y_pert[i] - y[i];
+                    let m = r.len();
+                    for (row, k) in r.clone().enumerate() {
+                        let d = (self.f_pert[k] - f0[k]) / delta;
+                        self.jac[b][row * m + j] = if bad.is_some() || !d.is_finite() {
+                            0.0
+                        } else {
+                            d
+                        };
+                    }
+                    self.y_pert[i] = y[i];
+                }
+            }
+        }
+        self.factored_for = 0.0;
+        Ok(())
+    }
+
+    /// LU-factorise W = I·`inv_h_gamma` − J block by block (unless already
+    /// done for this value). Returns false when a block is singular.
+    pub(super) fn factor(&mut self, inv_h_gamma: f64) -> bool {
+        if self.factored_for == inv_h_gamma {
+            return true;
+        }
+        for b in 0..self.layout.blocks.len() {
+            let m = self.layout.blocks[b].len();
+            let lu = &mut self.lu[b];
+            for (w, j) in lu.iter_mut().zip(&self.jac[b]) {
+                *w = -j;
+            }
+            for d in 0..m {
+                lu[d * m + d] += inv_h_gamma;
+            }
+            if !lu_in_place(lu, m, &mut self.pivots[b]) {
+                self.factored_for = 0.0;
+                return false;
+            }
+        }
+        self.factored_for = inv_h_gamma;
+        true
+    }
+
+    /// Solves W x = v in place (after [`Self::factor`] with `inv_h_gamma`).
+    pub(super) fn solve(&mut self, inv_h_gamma: f64, v: &mut [f64]) {
+        let h_gamma = 1.0 / inv_h_gamma;
+        // Rows outside the blocks: W = I/(hγ).
+        for &i in &self.outside {
+            v[i] *= h_gamma;
+        }
+        for b in 0..self.layout.blocks.len() {
+            let r = self.layout.blocks[b].clone();
+            let m = r.len();
+            let x = &mut self.rhs_scratch[..m];
+            x.copy_from_slice(&v[r.clone()]);
+            lu_solve(&self.lu[b], m, &self.pivots[b], x);
+            v[r].copy_from_slice(x);
+        }
+    }
+}
+
+/// The forward-difference increment for a component of value `y`.
+fn fd_step(y: f64) -> f64 {
+    let delta = FD_RELATIVE_STEP * y.abs().max(1.0);
+    // Make y + δ − y exact in floating point.
+    (y + delta) - y
+}
+
+/// In-place LU with partial pivoting of the row-major m×m `a` (Golub & Van
+/// Loan Alg. 3.4.1): L (unit, below the diagonal) and U overwrite `a`,
+/// `piv[k]` is the row swapped with row k. False when a pivot is zero or
+/// not finite.
+fn lu_in_place(a: &mut [f64], m: usize, piv: &mut [usize]) -> bool {
+    for k in 0..m {
+        let mut p = k;
+        let mut best = a[k * m + k].abs();
+        for r in k + 1..m {
+            let v = a[r * m + k].abs();
+            if v > best {
+                best = v;
+                p = r;
+            }
+        }
+        if !(best.is_finite() && best > 0.0) {
+            return false;
+        }
+        piv[k] = p;
+        if p != k {
+            for c in 0..m {
+                a.swap(k * m + c, p * m + c);
+            }
+        }
+        let inv = 1.0 / a[k * m + k];
+        for r in k + 1..m {
+            let l = a[r * m + k] * inv;
+            a[r * m + k] = l;
+            if l != 0.0 {
+                for c in k + 1..m {
+                    a[r * m + c] -= l * a[k * m + c];
+                }
+            }
+        }
+    }
+    true
+}
+
+/// Solves (LU) x = P b in place with the factors of [`lu_in_place`].
+fn lu_solve(lu: &[f64], m: usize, piv: &[usize], x: &mut [f64]) {
+    for k in 0..m {
+        x.swap(k, piv[k]);
+    }
+    for r in 1..m {
+        let mut s = x[r];
+        for c in 0..r {
+            s -= lu[r * m + c] * x[c];
+        }
+        x[r] = s;
+    }
+    for r in (0..m).rev() {
+        let mut s = x[r];
+        for c in r + 1..m {
+            s -= lu[r * m + c] * x[c];
+        }
+        x[r] = s / lu[r * m + r];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lu_solves_a_pivoting_system() {
+        // A zero leading pivot forces a swap.
+        let a0 = [0.0, 2.0, 1.0, 1.0, 1.0, 0.0, 3.0, 0.0, 1.0];
+        let mut a = a0;
+        let mut piv = [0; 3];
+        assert!(lu_in_place(&mut a, 3, &mut piv));
+        let x_true = [1.0, -2.0, 0.5];
+        let mut b = [0.0; 3];
+        for r in 0..3 {
+            for c in 0..3 {
+                b[r] += a0[r * 3 + c] * x_true[c];
+            }
+        }
+        lu_solve(&a, 3, &piv, &mut b);
+        for (x, t) in b.iter().zip(x_true) {
+            assert!((x - t).abs() < 1e-14, "{x} vs {t}");
+        }
+        let mut singular = [1.0, 2.0, 2.0, 4.0];
+        assert!(!lu_in_place(&mut singular, 2, &mut [0; 2]));
+    }
+
+    #[test]
+    fn the_layout_rules_are_checked() {
+        assert!(JacobianBlocks::dense(4).check(4).is_ok());
+        let overlap = JacobianBlocks {
+            blocks: vec![0..3, 2..4],
+            groups: vec![vec![0], vec![1]],
+        };
+        assert_eq!(overlap.check(4), Err("the blocks must be disjoint"));
+        let twice = JacobianBlocks {
+            blocks: vec![0..2, 2..4],
+            groups: vec![vec![0, 1], vec![1]],
+        };
+        assert_eq!(
+            twice.check(4),
+            Err("every block must be in exactly one group")
+        );
+        let outside = JacobianBlocks {
+            blocks: vec![0..5],
+            groups: vec![vec![0]],
+        };
+        assert!(outside.check(4).is_err());
+        let grouped = JacobianBlocks {
+            blocks: vec![0..3, 3..5, 6..7],
+            groups: vec![vec![0, 1], vec![2]],
+        };
+        assert_eq!(grouped.check(8), Ok(()));
+        assert_eq!(grouped.evaluations(), 3 + 1);
+    }
+}
