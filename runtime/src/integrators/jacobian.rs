@@ -68,6 +68,7 @@ impl JacobianBlocks {
     /// One dense block over all `n` components (n evaluations per
     /// Jacobian).
     pub fn dense(n: usize) -> Self {
+        #[allow(clippy::single_range_in_vec_init)]
         Self {
             blocks: vec![0..n],
             groups: vec![vec![0]],
@@ -292,8 +293,8 @@ fn lu_in_place(a: &mut [f64], m: usize, piv: &mut [usize]) -> bool {
 
 /// Solves (LU) x = P b in place with the factors of [`lu_in_place`].
 fn lu_solve(lu: &[f64], m: usize, piv: &[usize], x: &mut [f64]) {
-    for k in 0..m {
-        x.swap(k, piv[k]);
+    for (k, &p) in piv.iter().enumerate().take(m) {
+        x.swap(k, p);
     }
     for r in 1..m {
         let mut s = x[r];

@@ -160,8 +160,11 @@ const LAST_STEP_STRETCH: f64 = 1.01;
 /// Number of stages.
 const S: usize = 4;
 
-/// ROS34PW2 as published (Rang & Angermann 2005; γ, α_ij, γ_ij, b, b̂).
+/// ROS34PW2 as published (Rang & Angermann 2005; γ, α_ij, γ_ij, b, b̂),
+/// digits as printed there.
+#[allow(clippy::excessive_precision)]
 const GAMMA: f64 = 4.358_665_215_084_590e-1;
+#[allow(clippy::excessive_precision)]
 const ALPHA: [[f64; S]; S] = [
     [0.0, 0.0, 0.0, 0.0],
     [8.717_330_430_169_180_1e-1, 0.0, 0.0, 0.0],
@@ -173,6 +176,7 @@ const ALPHA: [[f64; S]; S] = [
     ],
     [0.0, 0.0, 1.0, 0.0],
 ];
+#[allow(clippy::excessive_precision)]
 const GAMMA_IJ: [[f64; S]; S] = [
     [GAMMA, 0.0, 0.0, 0.0],
     [-8.717_330_430_169_180_1e-1, GAMMA, 0.0, 0.0],
@@ -189,12 +193,14 @@ const GAMMA_IJ: [[f64; S]; S] = [
         GAMMA,
     ],
 ];
+#[allow(clippy::excessive_precision)]
 const B: [f64; S] = [
     2.421_238_070_609_534_6e-1,
     -1.223_250_583_904_514_7,
     1.545_260_255_335_102,
     GAMMA,
 ];
+#[allow(clippy::excessive_precision)]
 const B_HAT: [f64; S] = [
     3.781_090_314_581_936_9e-1,
     -9.604_229_221_242_317_8e-2,
@@ -214,6 +220,7 @@ pub(crate) struct Tableau {
 }
 
 impl Tableau {
+    #[allow(clippy::needless_range_loop)]
     pub(crate) fn ros34pw2() -> Self {
         // Γ⁻¹ of the lower-triangular Γ by forward substitution.
         let mut inv = [[0.0; S]; S];
@@ -384,7 +391,7 @@ fn attempt<S_: OdeSystem>(
         });
     }
     let err = (sum / n as f64).sqrt();
-    if !(err <= 1.0) {
+    if err.is_nan() || err > 1.0 {
         return Ok(Attempt::Rejected {
             err: if err.is_nan() { f64::INFINITY } else { err },
         });
