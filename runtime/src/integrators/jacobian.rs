@@ -354,6 +354,7 @@ mod tests {
             twice.check(4),
             Err("every block must be in exactly one group")
         );
+        #[allow(clippy::single_range_in_vec_init)]
         let outside = JacobianBlocks {
             blocks: vec![0..5],
             groups: vec![vec![0]],

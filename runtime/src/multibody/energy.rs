@@ -153,27 +153,6 @@ fn step_integral(h1: f64, h2: f64, p_m: f64, p0: f64, p1: f64) -> f64 {
     p0 * h2 + b * h2 * h2 / 2.0 + c * h2 * h2 * h2 / 3.0
 }
 
-#[cfg(test)]
-mod quadrature_tests {
-    use super::step_integral;
-
-    /// Exact for quadratics on unequal steps; the equal-step weights.
-    #[test]
-    fn the_step_integral_is_exact_for_quadratics() {
-        let p = |t: f64| 3.0 - 2.0 * t + 5.0 * t * t;
-        let (tm, t0, t1) = (0.1, 0.4, 0.45);
-        let exact = |a: f64, b: f64| {
-            let f = |t: f64| 3.0 * t - t * t + 5.0 / 3.0 * t * t * t;
-            f(b) - f(a)
-        };
-        let q = step_integral(t0 - tm, t1 - t0, p(tm), p(t0), p(t1));
-        assert!((q - exact(t0, t1)).abs() < 1e-14, "{q}");
-        let h = 0.2;
-        let q = step_integral(h, h, 1.0, 0.0, 0.0);
-        assert!((q - (-h / 12.0)).abs() < 1e-15, "{q}");
-    }
-}
-
 impl VehicleSystem<'_> {
     /// Mechanical energy (J) at the last evaluated state: kinetic energy of
     /// every body, gravitational potential (zero at Z = 0), the elements'
@@ -314,5 +293,26 @@ impl VehicleSystem<'_> {
         // roll arm; docs/reference/08-multibody.md §8.6).
         p[1] += self.imposed_power_w + self.formulation_power_w;
         p
+    }
+}
+
+#[cfg(test)]
+mod quadrature_tests {
+    use super::step_integral;
+
+    /// Exact for quadratics on unequal steps; the equal-step weights.
+    #[test]
+    fn the_step_integral_is_exact_for_quadratics() {
+        let p = |t: f64| 3.0 - 2.0 * t + 5.0 * t * t;
+        let (tm, t0, t1) = (0.1, 0.4, 0.45);
+        let exact = |a: f64, b: f64| {
+            let f = |t: f64| 3.0 * t - t * t + 5.0 / 3.0 * t * t * t;
+            f(b) - f(a)
+        };
+        let q = step_integral(t0 - tm, t1 - t0, p(tm), p(t0), p(t1));
+        assert!((q - exact(t0, t1)).abs() < 1e-14, "{q}");
+        let h = 0.2;
+        let q = step_integral(h, h, 1.0, 0.0, 0.0);
+        assert!((q - (-h / 12.0)).abs() < 1e-15, "{q}");
     }
 }
