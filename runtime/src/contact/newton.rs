@@ -7,6 +7,7 @@
 use nalgebra::Vector4;
 
 use super::geometry::{Pair, PairEval};
+use super::lu4;
 
 /// Largest change per iteration of (s_r, u_r, s_w, u_w) (m, m, rad, m):
 /// steps are scaled down to respect them.
@@ -56,7 +57,7 @@ pub(crate) fn solve(
         return Err(fail(x, 0, f64::INFINITY));
     };
     for it in 0..max_iterations {
-        let Some(step) = e.jacobian.lu().solve(&(-e.residual)) else {
+        let Some(step) = lu4::solve(&e.jacobian, &(-e.residual)) else {
             return Err(fail(x, it, e.residual.amax()));
         };
         let scale = (0..4).fold(1.0_f64, |s, k| {

@@ -367,6 +367,21 @@ impl ContactSolver {
         pose: &WheelsetPose,
     ) -> Result<WheelsetContacts, ContactError> {
         let mut out = WheelsetContacts::default();
+        self.solve_into(model, track, pose, &mut out)?;
+        Ok(out)
+    }
+
+    /// [`Self::solve`], written into `out` (every slot of both wheels set):
+    /// the candidates are kilobytes, and a caller that keeps them (a
+    /// vehicle's snapshot, at every right-hand side) saves the copy of a
+    /// returned value. On error `out` is partly written and must not be used.
+    pub fn solve_into(
+        &mut self,
+        model: &WheelsetContactModel,
+        track: &TrackTables,
+        pose: &WheelsetPose,
+        out: &mut WheelsetContacts,
+    ) -> Result<(), ContactError> {
         let stepping = self.options.reuse_clear_pieces;
         for side in Side::BOTH {
             let i = si(side);
@@ -461,6 +476,7 @@ impl ContactSolver {
                 }
             }
             for k in 0..MAX_SEGMENTS {
+                out.candidates[i][k] = None;
                 if parked[k] {
                     continue;
                 }
@@ -488,7 +504,7 @@ impl ContactSolver {
             found.clear();
             self.scratch = found;
         }
-        Ok(out)
+        Ok(())
     }
 }
 

@@ -92,13 +92,13 @@ impl VehicleSystem<'_> {
                 wheelset: w,
                 solver: &mut self.solvers[i],
             };
-            snap.contacts = source.contacts(ctx, &pose, &relative).map_err(|source| {
-                DynamicsError::Contact {
+            source
+                .contacts_into(ctx, &pose, &relative, &mut snap.contacts)
+                .map_err(|source| DynamicsError::Contact {
                     wheelset: w.name.clone(),
                     t_s: t,
                     source,
-                }
-            })?;
+                })?;
             let omega = st.angular_velocity_global();
             let motion = WheelsetMotion {
                 centre_m: st.position_m,

@@ -248,6 +248,31 @@ impl PiecewiseCubic {
         }
     }
 
+    /// [`Self::piece_index`], trying the piece `hint` and its two
+    /// neighbours first (a solver's iterates move little between two
+    /// evaluations): the same index in every case, found in O(1) when `x`
+    /// lies in or next to the hinted piece, by the full lookup otherwise.
+    #[inline]
+    pub fn piece_index_near(&self, x: f64, hint: usize) -> usize {
+        let last = self.coeffs.len() - 1;
+        if matches!(self.lookup, Lookup::Search) && hint <= last {
+            // The piece the binary search returns for a non-NaN x: the
+            // interior knots up to it are ≤ x, the next one is > x.
+            let brackets =
+                |i: usize| (i == 0 || self.knots[i] <= x) && (i == last || x < self.knots[i + 1]);
+            if brackets(hint) {
+                return hint;
+            }
+            if hint < last && brackets(hint + 1) {
+                return hint + 1;
+            }
+            if hint > 0 && brackets(hint - 1) {
+                return hint - 1;
+            }
+        }
+        self.piece_index(x)
+    }
+
     /// Value at `x`.
     #[inline]
     pub fn value(&self, x: f64) -> f64 {
@@ -427,6 +452,31 @@ mod tests {
                 assert_eq!(s.piece_index(-5.0), 0);
                 assert_eq!(s.piece_index(5.0), x.len() - 2);
                 assert_eq!(s.piece_index(f64::NAN), 0);
+            }
+        }
+    }
+
+    /// The hinted lookup returns the full lookup's piece for every hint,
+    /// on uniform and irregular knots, inside, outside, at the knots and
+    /// for NaN.
+    #[test]
+    fn hinted_piece_lookup_agrees_with_the_full_lookup() {
+        let uniform: Vec<f64> = (0..21).map(|i| 0.05 * i as f64).collect();
+        let irregular: Vec<f64> = (0..21).map(|i| (0.05 * i as f64).powi(2)).collect();
+        for x in [uniform, irregular] {
+            let y: Vec<f64> = x.iter().map(|v| v.sin()).collect();
+            let s = PiecewiseCubic::fit(Scheme::Akima, &x, &y).unwrap();
+            let mut probes: Vec<f64> = (0..=300).map(|k| -0.2 + 1.4 * k as f64 / 300.0).collect();
+            probes.extend(&x);
+            probes.push(f64::NAN);
+            for &p in &probes {
+                let expect = s.piece_index(p);
+                for hint in [0, 1, 5, 10, 19, 20, 21, usize::MAX] {
+                    assert_eq!(s.piece_index_near(p, hint), expect, "x = {p}, hint {hint}");
+                }
+                if expect > 0 {
+                    assert_eq!(s.piece_index_near(p, expect - 1), expect);
+                }
             }
         }
     }
