@@ -8,7 +8,7 @@ use super::geometry::SurfaceParams;
 use super::model::{WheelsetContactModel, same_contact};
 use super::{ContactError, WheelsetPose};
 use crate::geometry::profile::{MAX_SEGMENTS, Zone};
-use crate::geometry::track::{Side, TrackTables};
+use crate::geometry::track::{Frame, Side, TrackTables};
 
 /// When the flange zones are searched (paper §4.3: the user chooses whether
 /// flange contact matters; docs/reference/06-contact-detection.md §6).
@@ -208,22 +208,25 @@ struct WheelPosition {
     roll_rad: f64,
 }
 
+/// Where wheel `side` is; `l` the rail's arc length at the wheelset's
+/// track distance and `frame` the centreline frame there (looked up once
+/// per solve for both wheels).
 fn wheel_position(
     model: &WheelsetContactModel,
     track: &TrackTables,
     pose: &WheelsetPose,
     side: Side,
+    l: f64,
+    frame: &Frame,
 ) -> Result<WheelPosition, ContactError> {
     let sigma = match side {
         Side::Left => -1.0,
         Side::Right => 1.0,
     };
-    let l = track.centerline.rail_l(side, pose.s_track_m)?;
     let rail = track.rail(side).at(l)?;
     // Lateral measures along the track's lateral vector (not the rail
     // frame's, which is tilted by the rail inclination: with it, the axle
     // height would leak into the approach).
-    let frame = track.centerline.at(pose.s_track_m)?.frame;
     let n = frame.n.normalize();
     let b = frame.b.normalize();
     let h = -sigma * model.half_spacing_m(side);
@@ -383,10 +386,12 @@ impl ContactSolver {
         out: &mut WheelsetContacts,
     ) -> Result<(), ContactError> {
         let stepping = self.options.reuse_clear_pieces;
+        // The centreline frame at the wheelset, once for both wheels.
+        let frame = track.centerline.at(pose.s_track_m)?.frame;
         for side in Side::BOTH {
             let i = si(side);
             let l_now = track.centerline.rail_l(side, pose.s_track_m)?;
-            let position = wheel_position(model, track, pose, side)?;
+            let position = wheel_position(model, track, pose, side, l_now, &frame)?;
             let flange = self.flange_needed(model, &position, side);
             let segments = model.wheel(side).segments();
             // (slot followed from the last solve, patch)
