@@ -76,22 +76,23 @@ pub(crate) fn solve(
         // Backtracking on the merit function; a converging step is taken whole.
         let m0 = merit(&e);
         let mut lambda = 1.0;
-        let mut accepted = None;
+        let mut accepted = false;
         for _ in 0..=MAX_HALVINGS {
             let xt = x + full * lambda;
+            // Taken in place (no intermediate copy of the evaluation).
             if let Ok(et) = pair.eval(&xt)
                 && (converging || merit(&et) < m0 * (1.0 - 1e-4 * lambda))
             {
-                accepted = Some((xt, et));
+                x = xt;
+                e = et;
+                accepted = true;
                 break;
             }
             lambda *= 0.5;
         }
-        let Some((xn, en)) = accepted else {
+        if !accepted {
             return Err(fail(x, it + 1, e.residual.amax()));
-        };
-        x = xn;
-        e = en;
+        }
         if converging {
             return if e.residual.amax() < RESIDUAL_TOL {
                 Ok(Converged {

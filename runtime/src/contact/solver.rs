@@ -648,4 +648,25 @@ mod tests {
         found[0].1.penetration_m = -1e-5;
         assert_eq!(kept(&found, true).unwrap().len(), MAX_SEGMENTS);
     }
+
+    /// Written in place, every slot of both wheels is set: a snapshot
+    /// holding stale candidates in all slots comes back equal to the
+    /// returned value of the same solve.
+    #[test]
+    fn solve_into_sets_every_slot() {
+        use crate::fixtures::wheelsets;
+        let m = wheelsets::s1002_uic60().unwrap();
+        let track = wheelsets::straight_track_for(&m, 20.0);
+        let pose = WheelsetPose::on_track(&track, 10.0, 0.002, 0.4597, 0.0, 0.0).unwrap();
+        let mut a = ContactSolver::new(ContactOptions::default());
+        let mut b = a.clone();
+        let expect = a.solve(&m, &track, &pose).unwrap();
+        assert!(expect.iter().count() >= 2, "{expect:?}");
+        let stale = patch(0.0, 1e-5, 0);
+        let mut out = WheelsetContacts {
+            candidates: [[Some(stale); MAX_SEGMENTS]; 2],
+        };
+        b.solve_into(&m, &track, &pose, &mut out).unwrap();
+        assert_eq!(out, expect);
+    }
 }
