@@ -24,6 +24,8 @@
 //! `t1 = A (cos s_w, 0, sin s_w)` and `t2 = A (−f_w' sin s_w, 1, f_w' cos s_w)`
 //! the wheel's tangents (eq. 11–12) and `d = r_w − r_r`.
 
+use std::cell::Cell;
+
 use nalgebra::{Matrix4, Vector3, Vector4};
 
 use super::WheelsetPose;
@@ -90,6 +92,11 @@ pub(crate) struct Pair<'a> {
     /// Lateral position of the wheel's profile origin on the axle (m): −σH/2.
     pub h_m: f64,
     pub pose: &'a WheelsetPose,
+    /// The rail head's and the wheel curve's spline pieces of the last
+    /// evaluation: the next lookups start there (the same values, found
+    /// without a binary search while the iterates stay on or next to them).
+    pub rail_piece: Cell<usize>,
+    pub wheel_piece: Cell<usize>,
 }
 
 impl<'a> Pair<'a> {
@@ -113,6 +120,8 @@ impl<'a> Pair<'a> {
             sigma,
             h_m: -sigma * half_spacing_m,
             pose,
+            rail_piece: Cell::new(usize::MAX),
+            wheel_piece: Cell::new(usize::MAX),
         }
     }
 
@@ -133,7 +142,7 @@ impl<'a> Pair<'a> {
         // Rail.
         let (rail, rd) = self.rail_table.at_with_derivative(s_r)?;
         let (p, n, b) = (rail.position, rail.frame.n, rail.frame.b);
-        let rp = self.rail.head().at(sg * u_r);
+        let rp = self.rail.head().at_near(sg * u_r, &self.rail_piece);
         let (f_r, f_r1, f_r2) = (rp.z_m, sg * rp.dz, rp.d2z_1_m);
         let r_r = p + n * u_r + b * f_r;
         let r_r_s = rd.position + rd.n * u_r + rd.b * f_r;
@@ -142,7 +151,7 @@ impl<'a> Pair<'a> {
         let big_n_s = rd.b - rd.n * f_r1;
         let big_n_u = -n * f_r2;
         // Wheel.
-        let wp = self.wheel_curve.at(sg * u_w);
+        let wp = self.wheel_curve.at_near(sg * u_w, &self.wheel_piece);
         let r0 = self.wheel.nominal_radius_m();
         let (f_w, f_w1, f_w2) = (wp.z_m - r0, sg * wp.dz, wp.d2z_1_m);
         let (ss, cs) = s_w.sin_cos();

@@ -51,6 +51,7 @@ mod candidate;
 mod geometry;
 pub mod imported;
 pub mod imported_lookup;
+mod lu4;
 mod model;
 pub mod nadal;
 mod newton;

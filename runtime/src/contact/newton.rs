@@ -7,6 +7,7 @@
 use nalgebra::Vector4;
 
 use super::geometry::{Pair, PairEval};
+use super::lu4;
 
 /// Largest change per iteration of (s_r, u_r, s_w, u_w) (m, m, rad, m):
 /// steps are scaled down to respect them.
@@ -56,7 +57,7 @@ pub(crate) fn solve(
         return Err(fail(x, 0, f64::INFINITY));
     };
     for it in 0..max_iterations {
-        let Some(step) = e.jacobian.lu().solve(&(-e.residual)) else {
+        let Some(step) = lu4::solve(&e.jacobian, &(-e.residual)) else {
             return Err(fail(x, it, e.residual.amax()));
         };
         let scale = (0..4).fold(1.0_f64, |s, k| {
@@ -75,22 +76,23 @@ pub(crate) fn solve(
         // Backtracking on the merit function; a converging step is taken whole.
         let m0 = merit(&e);
         let mut lambda = 1.0;
-        let mut accepted = None;
+        let mut accepted = false;
         for _ in 0..=MAX_HALVINGS {
             let xt = x + full * lambda;
+            // Taken in place (no intermediate copy of the evaluation).
             if let Ok(et) = pair.eval(&xt)
                 && (converging || merit(&et) < m0 * (1.0 - 1e-4 * lambda))
             {
-                accepted = Some((xt, et));
+                x = xt;
+                e = et;
+                accepted = true;
                 break;
             }
             lambda *= 0.5;
         }
-        let Some((xn, en)) = accepted else {
+        if !accepted {
             return Err(fail(x, it + 1, e.residual.amax()));
-        };
-        x = xn;
-        e = en;
+        }
         if converging {
             return if e.residual.amax() < RESIDUAL_TOL {
                 Ok(Converged {

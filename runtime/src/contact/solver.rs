@@ -8,7 +8,7 @@ use super::geometry::SurfaceParams;
 use super::model::{WheelsetContactModel, same_contact};
 use super::{ContactError, WheelsetPose};
 use crate::geometry::profile::{MAX_SEGMENTS, Zone};
-use crate::geometry::track::{Side, TrackTables};
+use crate::geometry::track::{Frame, Side, TrackTables};
 
 /// When the flange zones are searched (paper §4.3: the user chooses whether
 /// flange contact matters; docs/reference/06-contact-detection.md §6).
@@ -208,22 +208,25 @@ struct WheelPosition {
     roll_rad: f64,
 }
 
+/// Where wheel `side` is; `l` the rail's arc length at the wheelset's
+/// track distance and `frame` the centreline frame there (looked up once
+/// per solve for both wheels).
 fn wheel_position(
     model: &WheelsetContactModel,
     track: &TrackTables,
     pose: &WheelsetPose,
     side: Side,
+    l: f64,
+    frame: &Frame,
 ) -> Result<WheelPosition, ContactError> {
     let sigma = match side {
         Side::Left => -1.0,
         Side::Right => 1.0,
     };
-    let l = track.centerline.rail_l(side, pose.s_track_m)?;
     let rail = track.rail(side).at(l)?;
     // Lateral measures along the track's lateral vector (not the rail
     // frame's, which is tilted by the rail inclination: with it, the axle
     // height would leak into the approach).
-    let frame = track.centerline.at(pose.s_track_m)?.frame;
     let n = frame.n.normalize();
     let b = frame.b.normalize();
     let h = -sigma * model.half_spacing_m(side);
@@ -367,11 +370,28 @@ impl ContactSolver {
         pose: &WheelsetPose,
     ) -> Result<WheelsetContacts, ContactError> {
         let mut out = WheelsetContacts::default();
+        self.solve_into(model, track, pose, &mut out)?;
+        Ok(out)
+    }
+
+    /// [`Self::solve`], written into `out` (every slot of both wheels set):
+    /// the candidates are kilobytes, and a caller that keeps them (a
+    /// vehicle's snapshot, at every right-hand side) saves the copy of a
+    /// returned value. On error `out` is partly written and must not be used.
+    pub fn solve_into(
+        &mut self,
+        model: &WheelsetContactModel,
+        track: &TrackTables,
+        pose: &WheelsetPose,
+        out: &mut WheelsetContacts,
+    ) -> Result<(), ContactError> {
         let stepping = self.options.reuse_clear_pieces;
+        // The centreline frame at the wheelset, once for both wheels.
+        let frame = track.centerline.at(pose.s_track_m)?.frame;
         for side in Side::BOTH {
             let i = si(side);
             let l_now = track.centerline.rail_l(side, pose.s_track_m)?;
-            let position = wheel_position(model, track, pose, side)?;
+            let position = wheel_position(model, track, pose, side, l_now, &frame)?;
             let flange = self.flange_needed(model, &position, side);
             let segments = model.wheel(side).segments();
             // (slot followed from the last solve, patch)
@@ -461,6 +481,7 @@ impl ContactSolver {
                 }
             }
             for k in 0..MAX_SEGMENTS {
+                out.candidates[i][k] = None;
                 if parked[k] {
                     continue;
                 }
@@ -488,7 +509,7 @@ impl ContactSolver {
             found.clear();
             self.scratch = found;
         }
-        Ok(out)
+        Ok(())
     }
 }
 
@@ -626,5 +647,26 @@ mod tests {
         );
         found[0].1.penetration_m = -1e-5;
         assert_eq!(kept(&found, true).unwrap().len(), MAX_SEGMENTS);
+    }
+
+    /// Written in place, every slot of both wheels is set: a snapshot
+    /// holding stale candidates in all slots comes back equal to the
+    /// returned value of the same solve.
+    #[test]
+    fn solve_into_sets_every_slot() {
+        use crate::fixtures::wheelsets;
+        let m = wheelsets::s1002_uic60().unwrap();
+        let track = wheelsets::straight_track_for(&m, 20.0);
+        let pose = WheelsetPose::on_track(&track, 10.0, 0.002, 0.4597, 0.0, 0.0).unwrap();
+        let mut a = ContactSolver::new(ContactOptions::default());
+        let mut b = a.clone();
+        let expect = a.solve(&m, &track, &pose).unwrap();
+        assert!(expect.iter().count() >= 2, "{expect:?}");
+        let stale = patch(0.0, 1e-5, 0);
+        let mut out = WheelsetContacts {
+            candidates: [[Some(stale); MAX_SEGMENTS]; 2],
+        };
+        b.solve_into(&m, &track, &pose, &mut out).unwrap();
+        assert_eq!(out, expect);
     }
 }

@@ -101,6 +101,20 @@ pub trait ContactSource: std::fmt::Debug {
         relative: &TrackRelative,
     ) -> Result<WheelsetContacts, ContactError>;
 
+    /// [`Self::contacts`] written into `out` (the vehicle's snapshot, at
+    /// every right-hand side: a returned value of kilobytes would be copied
+    /// there). On error `out` may be partly written and must not be used.
+    fn contacts_into(
+        &mut self,
+        ctx: ContactContext<'_>,
+        pose: &WheelsetPose,
+        relative: &TrackRelative,
+        out: &mut WheelsetContacts,
+    ) -> Result<(), ContactError> {
+        *out = self.contacts(ctx, pose, relative)?;
+        Ok(())
+    }
+
     /// The force of candidate `c` of the last [`Self::contacts`] for the
     /// wheelset's `motion`, from the candidate's hysteresis `memory`;
     /// `Ok(None)` out of contact. By default the per-contact pipeline on
@@ -160,6 +174,17 @@ impl ContactSource for OnlineContact {
         _relative: &TrackRelative,
     ) -> Result<WheelsetContacts, ContactError> {
         ctx.solver.solve(&ctx.wheelset.contact, ctx.track, pose)
+    }
+
+    fn contacts_into(
+        &mut self,
+        ctx: ContactContext<'_>,
+        pose: &WheelsetPose,
+        _relative: &TrackRelative,
+        out: &mut WheelsetContacts,
+    ) -> Result<(), ContactError> {
+        ctx.solver
+            .solve_into(&ctx.wheelset.contact, ctx.track, pose, out)
     }
 }
 

@@ -30,7 +30,7 @@ use super::formulation::{
 };
 use super::settings::BRAKE_STICK_SPEED_M_S;
 use super::system::{REFERENCE_DS_M, VehicleSystem};
-use super::track_motion::{project_s, reference_anchor, track_relative, track_rotation};
+use super::track_motion::{frame_rotation, project_s, reference_anchor, relative_to};
 use crate::contact::WheelsetPose;
 use crate::forces::normal::ContactMemory;
 use crate::multibody::body::{BodyState, Wrench};
@@ -58,23 +58,20 @@ impl VehicleSystem<'_> {
                 }
             })?;
             self.s_guess[i] = s;
-            let frame = track_rotation(c, s).map_err(|source| DynamicsError::Track {
+            // One centreline lookup at s serves the rotation and the
+            // relative position (the same values as two).
+            let centre = c.at(s).map_err(|source| DynamicsError::Track {
                 what: format!("wheelset '{}'", w.name),
                 t_s: t,
                 source,
             })?;
+            let frame = frame_rotation(&centre.frame);
             let up = frame.column(2).into_owned();
             let roll_axis = frame.column(0).into_owned();
             let rotation = st.rotation();
             let axle = rotation.column(1).into_owned();
             let pose = WheelsetPose::from_body(s, st.position_m, axle, up);
-            let relative = track_relative(c, s, &st.position_m, &axle, &st.velocity_m_s).map_err(
-                |source| DynamicsError::Track {
-                    what: format!("wheelset '{}'", w.name),
-                    t_s: t,
-                    source,
-                },
-            )?;
+            let relative = relative_to(&centre, &st.position_m, &axle, &st.velocity_m_s);
             if relative.lateral_m.abs() > self.settings.derailment_lateral_m {
                 return Err(DynamicsError::Derailed {
                     wheelset: w.name.clone(),
@@ -92,13 +89,13 @@ impl VehicleSystem<'_> {
                 wheelset: w,
                 solver: &mut self.solvers[i],
             };
-            snap.contacts = source.contacts(ctx, &pose, &relative).map_err(|source| {
-                DynamicsError::Contact {
+            source
+                .contacts_into(ctx, &pose, &relative, &mut snap.contacts)
+                .map_err(|source| DynamicsError::Contact {
                     wheelset: w.name.clone(),
                     t_s: t,
                     source,
-                }
-            })?;
+                })?;
             let omega = st.angular_velocity_global();
             let motion = WheelsetMotion {
                 centre_m: st.position_m,

@@ -3,7 +3,7 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use crate::geometry::track::{CenterlineTable, TrackError};
+use crate::geometry::track::{CenterlinePoint, CenterlineTable, Frame, TrackError};
 use crate::multibody::element::Anchor;
 
 /// Fixed-point iterations of [`project_s`]; each one is exact on a straight
@@ -65,29 +65,45 @@ pub fn track_relative(
     axle: &Vector3<f64>,
     velocity: &Vector3<f64>,
 ) -> Result<TrackRelative, TrackError> {
-    let c = centerline.at(s_m)?;
+    Ok(relative_to(&centerline.at(s_m)?, position, axle, velocity))
+}
+
+/// [`track_relative`] at a centreline point already looked up (the same
+/// values: one lookup serves the rotation and the relative position of a
+/// wheelset, [`crate::multibody::VehicleSystem::evaluate`]).
+pub(crate) fn relative_to(
+    c: &CenterlinePoint,
+    position: &Vector3<f64>,
+    axle: &Vector3<f64>,
+    velocity: &Vector3<f64>,
+) -> TrackRelative {
+    let s_m = c.s_m;
     let (t, n, b) = (
         c.frame.t.normalize(),
         c.frame.n.normalize(),
         c.frame.b.normalize(),
     );
     let d = position - c.position;
-    Ok(TrackRelative {
+    TrackRelative {
         s_m,
         lateral_m: d.dot(&n),
         vertical_m: d.dot(&b),
         yaw_rad: (-axle.dot(&t)).atan2(axle.dot(&n)),
         roll_rad: axle.dot(&b).clamp(-1.0, 1.0).asin(),
         forward_speed_m_s: velocity.dot(&t),
-    })
+    }
 }
 
 /// Rotation (columns t, n, b, orthonormalised) of the track frame at `s_m`.
 pub fn track_rotation(centerline: &CenterlineTable, s_m: f64) -> Result<Matrix3<f64>, TrackError> {
-    let f = centerline.at(s_m)?.frame;
+    Ok(frame_rotation(&centerline.at(s_m)?.frame))
+}
+
+/// [`track_rotation`] of a centreline frame already looked up.
+pub(crate) fn frame_rotation(f: &Frame) -> Matrix3<f64> {
     let t = f.t.normalize();
     let n = (f.n - t * t.dot(&f.n)).normalize();
-    Ok(Matrix3::from_columns(&[t, n, t.cross(&n)]))
+    Matrix3::from_columns(&[t, n, t.cross(&n)])
 }
 
 /// Global position of a point given in the vehicle frame (x along the
@@ -97,9 +113,14 @@ pub fn vehicle_point(
     s_vehicle_m: f64,
     point: &Vector3<f64>,
 ) -> Result<Vector3<f64>, TrackError> {
-    let c = centerline.at(s_vehicle_m + point.x)?;
-    let r = track_rotation(centerline, s_vehicle_m + point.x)?;
-    Ok(c.position + r.column(1) * point.y + r.column(2) * point.z)
+    Ok(point_at(&centerline.at(s_vehicle_m + point.x)?, point))
+}
+
+/// [`vehicle_point`] from the centreline point at its station, already
+/// looked up (position and rotation from one lookup).
+fn point_at(c: &CenterlinePoint, point: &Vector3<f64>) -> Vector3<f64> {
+    let r = frame_rotation(&c.frame);
+    c.position + r.column(1) * point.y + r.column(2) * point.z
 }
 
 /// Anchor of a track-following reference whose origin is `origin` in the
@@ -114,16 +135,32 @@ pub fn reference_anchor(
     speed_m_s: f64,
     ds_m: f64,
 ) -> Result<Anchor, TrackError> {
+    // One centreline lookup per distinct station (the position and the
+    // rotation at a station share it; a station whose rounded abscissa
+    // equals the rotation's reuses that lookup too): the same values as
+    // separate lookups, at a third of the cost.
     let s = s_vehicle_m + origin.x;
-    let position = vehicle_point(centerline, s_vehicle_m, origin)?;
-    let rotation = track_rotation(centerline, s)?;
+    let centre = centerline.at(s)?;
+    let position = point_at(&centre, origin);
+    let rotation = frame_rotation(&centre.frame);
     let (lo, hi) = centerline.range_m();
     let (s0, s1) = ((s - ds_m).max(lo), (s + ds_m).min(hi));
     let (velocity, angular_velocity) = if s1 > s0 {
-        let p0 = vehicle_point(centerline, s_vehicle_m - (s - s0), origin)?;
-        let p1 = vehicle_point(centerline, s_vehicle_m + (s1 - s), origin)?;
-        let r0 = track_rotation(centerline, s0)?;
-        let r1 = track_rotation(centerline, s1)?;
+        let (a0, a1) = (
+            s_vehicle_m - (s - s0) + origin.x,
+            s_vehicle_m + (s1 - s) + origin.x,
+        );
+        let (c0, c1) = (centerline.at(a0)?, centerline.at(a1)?);
+        let (p0, p1) = (point_at(&c0, origin), point_at(&c1, origin));
+        let at_or_reuse = |station: f64, a: f64, c: &CenterlinePoint| {
+            if station.to_bits() == a.to_bits() {
+                Ok(frame_rotation(&c.frame))
+            } else {
+                track_rotation(centerline, station)
+            }
+        };
+        let r0 = at_or_reuse(s0, a0, &c0)?;
+        let r1 = at_or_reuse(s1, a1, &c1)?;
         let dr = (r1 - r0) / (s1 - s0);
         // ω̃ = Ṙ Rᵀ (skew), ω = its axial vector.
         let w = dr * rotation.transpose() * speed_m_s;

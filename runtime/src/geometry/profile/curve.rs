@@ -1,5 +1,7 @@
 //! A profile function z(u) on a closed domain, with slope and curvature.
 
+use std::cell::Cell;
+
 use crate::geometry::spline::{PiecewiseCubic, Scheme};
 
 /// Height, slope and second derivative of a profile at one lateral position.
@@ -77,6 +79,21 @@ impl ProfileCurve {
     #[inline]
     pub fn at(&self, u_m: f64) -> CurvePoint {
         let d = self.spline.derivatives(u_m);
+        CurvePoint {
+            z_m: d.value,
+            dz: d.d1,
+            d2z_1_m: d.d2,
+        }
+    }
+
+    /// [`Self::at`], looking the spline piece up from `hint` first (see
+    /// [`PiecewiseCubic::piece_index_near`]; the same values bit for bit)
+    /// and leaving the piece used in it.
+    #[inline]
+    pub(crate) fn at_near(&self, u_m: f64, hint: &Cell<usize>) -> CurvePoint {
+        let i = self.spline.piece_index_near(u_m, hint.get());
+        hint.set(i);
+        let d = self.spline.derivatives_in_piece(i, u_m);
         CurvePoint {
             z_m: d.value,
             dz: d.d1,

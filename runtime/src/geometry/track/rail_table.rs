@@ -118,6 +118,13 @@ impl RailTable {
     /// of 1e-9 m is allowed at both ends).
     #[inline]
     pub fn at(&self, l_m: f64) -> Result<RailPoint, TrackError> {
+        let (i, f) = self.locate_checked(l_m)?;
+        Ok(self.interpolate(l_m, i, f))
+    }
+
+    /// Interval and fraction of `l_m`, or [`TrackError::OutOfRange`].
+    #[inline]
+    fn locate_checked(&self, l_m: f64) -> Result<(usize, f64), TrackError> {
         let (lo, hi) = self.range_m();
         if !within(l_m, lo, hi, 1e-9) {
             return Err(TrackError::OutOfRange {
@@ -128,10 +135,15 @@ impl RailTable {
                 max_m: hi,
             });
         }
-        let (i, f) = self.grid.locate(l_m, |k| self.rows[k].l_m);
+        Ok(self.grid.locate(l_m, |k| self.rows[k].l_m))
+    }
+
+    /// The point at fraction `f` of interval `i`.
+    #[inline]
+    fn interpolate(&self, l_m: f64, i: usize, f: f64) -> RailPoint {
         let (r0, r1) = (&self.rows[i], &self.rows[i + 1]);
         let lerp = |a, b| lerp3(f, a, b);
-        Ok(RailPoint {
+        RailPoint {
             l_m,
             position: lerp(&r0.position, &r1.position),
             frame: Frame {
@@ -139,7 +151,7 @@ impl RailTable {
                 n: lerp(&r0.n, &r1.n),
                 b: lerp(&r0.b, &r1.b),
             },
-        })
+        }
     }
 }
 
@@ -163,9 +175,11 @@ impl RailTable {
         &self,
         l_m: f64,
     ) -> Result<(RailPoint, RailPointDerivative), TrackError> {
-        let p = self.at(l_m)?;
-        let i = self.grid.interval(l_m, |k| self.rows[k].l_m);
+        // One interval lookup serves the point and its derivatives (the
+        // same interval `at` finds, so the same values).
+        let (i, f) = self.locate_checked(l_m)?;
         let (r0, r1) = (&self.rows[i], &self.rows[i + 1]);
+        let p = self.interpolate(l_m, i, f);
         let inv = 1.0 / (r1.l_m - r0.l_m);
         let diff = |a: &[f64; 3], b: &[f64; 3]| {
             Vector3::new(

@@ -1,0 +1,183 @@
+//! Solve of a 4×4 linear system by LU decomposition with partial (row)
+//! pivoting, unrolled on fixed-size arrays for the Newton steps of the
+//! contact equations (four unknowns, docs/reference/06-contact-detection.md §6).
+//!
+//! It performs exactly the floating-point operations of nalgebra's
+//! `Matrix4::lu().solve(b)`, in the same order (pivot = first row of largest
+//! |a| in the column, multipliers scaled by the pivot's reciprocal, row
+//! updates `a_rk ← (−a_ik)·l_r + a_rk`, unit lower then upper triangular
+//! substitution), so its results are bit-identical to it (checked by the
+//! tests below); it only avoids the generic code's permutation sequence,
+//! views and loops over dynamic ranges.
+
+use nalgebra::{Matrix4, Vector4};
+
+/// `x` with `a x = b`, or `None` when `a` is singular (a zero pivot in U),
+/// as nalgebra's `LU::solve`.
+#[inline]
+pub(crate) fn solve(a: &Matrix4<f64>, b: &Vector4<f64>) -> Option<Vector4<f64>> {
+    // m[r][c], row-major working copy; x the permuted right-hand side (the
+    // row swaps applied to it as they are made, as nalgebra's permutation
+    // sequence applies them in order before the substitutions).
+    let mut m = [[0.0_f64; 4]; 4];
+    for (r, row) in m.iter_mut().enumerate() {
+        for (c, v) in row.iter_mut().enumerate() {
+            *v = a[(r, c)];
+        }
+    }
+    let mut x = [b[0], b[1], b[2], b[3]];
+    eliminate::<0>(&mut m, &mut x);
+    eliminate::<1>(&mut m, &mut x);
+    eliminate::<2>(&mut m, &mut x);
+    eliminate::<3>(&mut m, &mut x);
+    // L (unit diagonal).
+    forward::<0>(&m, &mut x);
+    forward::<1>(&m, &mut x);
+    forward::<2>(&m, &mut x);
+    // U.
+    backward::<3>(&m, &mut x)?;
+    backward::<2>(&m, &mut x)?;
+    backward::<1>(&m, &mut x)?;
+    backward::<0>(&m, &mut x)?;
+    Some(Vector4::new(x[0], x[1], x[2], x[3]))
+}
+
+/// Column `I` of the elimination: pivot (first row of largest |a|), row
+/// swap, multipliers `l_r = a_rI·(1/pivot)`, updates `a_rk ← a_rk + (−a_Ik)·l_r`.
+/// Constant `I` lets every loop unroll.
+#[inline(always)]
+fn eliminate<const I: usize>(m: &mut [[f64; 4]; 4], x: &mut [f64; 4]) {
+    let mut piv = I;
+    let mut max = m[I][I].abs();
+    for (r, row) in m.iter().enumerate().skip(I + 1) {
+        let v = row[I].abs();
+        if v > max {
+            max = v;
+            piv = r;
+        }
+    }
+    let diag = m[piv][I];
+    if diag == 0.0 {
+        // No non-zero entry in this column: nalgebra skips the step.
+        return;
+    }
+    if piv != I {
+        m.swap(I, piv);
+        x.swap(I, piv);
+    }
+    let inv_diag = 1.0 / diag;
+    let pivot_row = m[I];
+    for row in m.iter_mut().skip(I + 1) {
+        row[I] *= inv_diag;
+        let l = row[I];
+        for k in I + 1..4 {
+            row[k] += (-pivot_row[k]) * l;
+        }
+    }
+}
+
+/// Forward substitution with L's column `I` (unit diagonal).
+#[inline(always)]
+fn forward<const I: usize>(m: &[[f64; 4]; 4], x: &mut [f64; 4]) {
+    let coeff = x[I];
+    for r in I + 1..4 {
+        x[r] += (-coeff) * m[r][I];
+    }
+}
+
+/// Back substitution with U's column `I`; `None` on a zero pivot.
+#[inline(always)]
+fn backward<const I: usize>(m: &[[f64; 4]; 4], x: &mut [f64; 4]) -> Option<()> {
+    let diag = m[I][I];
+    if diag == 0.0 {
+        return None;
+    }
+    let coeff = x[I] / diag;
+    x[I] = coeff;
+    for r in 0..I {
+        x[r] += (-coeff) * m[r][I];
+    }
+    Some(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A small deterministic generator (xorshift64*), values in [−1, 1).
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> f64 {
+            self.0 ^= self.0 >> 12;
+            self.0 ^= self.0 << 25;
+            self.0 ^= self.0 >> 27;
+            let v = self.0.wrapping_mul(0x2545_f491_4f6c_dd1d);
+            (v >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+        }
+    }
+
+    fn same_bits(a: Option<Vector4<f64>>, b: Option<Vector4<f64>>) -> bool {
+        match (a, b) {
+            (None, None) => true,
+            (Some(a), Some(b)) => a
+                .iter()
+                .zip(b.iter())
+                .all(|(x, y)| x.to_bits() == y.to_bits()),
+            _ => false,
+        }
+    }
+
+    /// Random matrices with entries over six decades (every pivoting order
+    /// occurs), matrices with zero and repeated columns (singular), ties in
+    /// the pivot column, and the contact Jacobian's pattern (a structural
+    /// zero at (0, 3)): the same bits as nalgebra's LU solve.
+    #[test]
+    fn bit_identical_to_nalgebra_lu() {
+        let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+        let mut checked_singular = 0;
+        for k in 0..20_000 {
+            let mut a = Matrix4::from_fn(|_, _| rng.next() * 10f64.powf(3.0 * rng.next()));
+            match k % 7 {
+                1 => a[(0, 3)] = 0.0,
+                2 => a.set_column(2, &Vector4::zeros()),
+                3 => {
+                    let c = a.column(0).into_owned();
+                    a.set_column(3, &c);
+                }
+                4 => {
+                    // Ties: equal magnitudes in the first column.
+                    let v = a[(0, 0)];
+                    a[(1, 0)] = -v;
+                    a[(3, 0)] = v;
+                }
+                5 => a.set_row(1, &a.row(2).into_owned()),
+                _ => {}
+            }
+            let b = Vector4::from_fn(|_, _| rng.next());
+            let expect = a.lu().solve(&b);
+            if expect.is_none() {
+                checked_singular += 1;
+            }
+            assert!(same_bits(solve(&a, &b), expect), "{a} {b}");
+        }
+        assert!(checked_singular > 1000, "{checked_singular}");
+    }
+
+    #[test]
+    fn solves_and_refuses_the_singular() {
+        let a = Matrix4::new(
+            0.0, 2.0, 0.0, 0.0, //
+            1.0, 0.0, 0.0, 0.0, //
+            0.0, 0.0, 0.0, 4.0, //
+            0.0, 0.0, 3.0, 0.0,
+        );
+        let x = solve(&a, &Vector4::new(2.0, 1.0, 8.0, 3.0)).expect("regular");
+        assert_eq!(x, Vector4::new(1.0, 1.0, 1.0, 2.0));
+        assert!(solve(&Matrix4::zeros(), &Vector4::repeat(1.0)).is_none());
+        let nan = solve(&Matrix4::repeat(f64::NAN), &Vector4::repeat(1.0));
+        assert!(same_bits(
+            nan,
+            Matrix4::repeat(f64::NAN).lu().solve(&Vector4::repeat(1.0))
+        ));
+    }
+}
