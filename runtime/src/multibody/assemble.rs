@@ -281,6 +281,7 @@ impl<'a> VehicleSystem<'a> {
             ramp: settings.speed_profile(),
             ledger: None,
             track_end_reached: false,
+            accepted: Default::default(),
             settings,
         };
         Ok((system, y0))

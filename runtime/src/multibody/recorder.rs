@@ -60,14 +60,20 @@ impl Recorder {
         }
     }
 
-    /// Evaluates the system at (t, y) and appends the sample.
+    /// Evaluates the system at (t, y) and appends the sample. At an
+    /// accepted state whose evaluation is still the last one
+    /// ([`VehicleSystem::evaluated_at`]: the output times that fall on a
+    /// step) that evaluation is used as it is: the same values without a
+    /// second evaluation.
     pub fn record(
         &mut self,
         system: &mut VehicleSystem<'_>,
         t: f64,
         y: &[f64],
     ) -> Result<(), DynamicsError> {
-        system.evaluate(t, y)?;
+        if !system.evaluated_at(t, y) {
+            system.evaluate(t, y)?;
+        }
         let track = system.track();
         let snapshots = system.snapshots();
         let wheel_l = |snap: &WheelsetSnapshot, side: Side| -> Result<f64, DynamicsError> {
