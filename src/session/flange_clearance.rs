@@ -130,6 +130,41 @@ fn parse(text: &str, n: usize) -> Option<Vec<FlangeClearances>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::config::scene::LoadedScene;
+
+    /// A session with the flange search `auto` hands assembly the swept
+    /// clearances of its vehicle; a second computation comes from the
+    /// cache (the model is not asked for).
+    #[test]
+    fn a_session_gives_assembly_the_cached_sweep() {
+        let scene = LoadedScene::default_scene(&["contact.flange=auto".into()]).expect("scene");
+        let session = crate::session::Session::new(&scene).expect("session");
+        let given = session
+            .settings
+            .flange_clearances_m
+            .clone()
+            .expect("clearances given to assembly");
+        assert_eq!(given, sweep(&session.vehicle).expect("sweep"));
+        assert!(given[0].iter().all(|c| c.is_some_and(|c| c > 0.001)));
+        let s = &session.scene.scene;
+        let m = &session.track.meta;
+        let inputs = ClearanceInputs {
+            vehicle_file: &session.vehicle_file,
+            rail: &session.scene.path(&s.track.rail_profile),
+            placement: RailPlacement {
+                gauge_m: m.gauge_m,
+                rail_spacing_m: m.rail_spacing_m,
+                inclination_rad: m.rail_inclination_rad,
+            },
+            keep_longest_stretch: s.track.keep_longest_stretch,
+        };
+        let cached = flange_clearances(&inputs, || anyhow::bail!("swept again")).expect("cached");
+        assert_eq!(cached, given);
+        // The flange search off: no sweep needed, none given.
+        let off = LoadedScene::default_scene(&["contact.flange=off".into()]).expect("scene");
+        let session = crate::session::Session::new(&off).expect("session");
+        assert_eq!(session.settings.flange_clearances_m, None);
+    }
 
     #[test]
     fn the_cache_text_round_trips_bit_for_bit() {
