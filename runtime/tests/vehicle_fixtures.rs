@@ -99,7 +99,11 @@ fn check_against_file(which: ShippedVehicle, v: &VehicleModel) {
         assert_eq!(e.point_b_m.as_slice(), numbers(pb, n), "{n}");
         assert_eq!(e.stiffness_n_m.to_vec(), numbers(f.get("stiffness_n_m"), n));
         assert_eq!(e.damping_n_s_m.to_vec(), numbers(f.get("damping_n_s_m"), n));
-        assert_eq!(e.preload_n.as_slice(), numbers(f.get("preload_n"), n), "{n}");
+        assert_eq!(
+            e.preload_n.as_slice(),
+            numbers(f.get("preload_n"), n),
+            "{n}"
+        );
         assert_eq!(e.internal_len(), 0, "{n}: linear in the file");
     }
 }

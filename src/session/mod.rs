@@ -88,7 +88,9 @@ impl Session {
                 keep_longest_stretch: s.track.keep_longest_stretch,
             };
             settings.flange_clearances_m =
-                Some(flange_clearance::flange_clearances(&inputs, || Ok(&vehicle))?);
+                Some(flange_clearance::flange_clearances(&inputs, || {
+                    Ok(&vehicle)
+                })?);
         }
         let method = s.method()?;
         Ok(Session {

@@ -358,7 +358,8 @@ pub(super) fn flange_facts(ls: &LoadedScene, check: &mut CheckModel) -> Result<F
     };
     let (_, vehicle) = check.model()?;
     // The sweep shared with assembly (`crate::session::flange_clearance`).
-    let per_wheelset = crate::session::flange_clearance::flange_clearances(&inputs, || Ok(vehicle))?;
+    let per_wheelset =
+        crate::session::flange_clearance::flange_clearances(&inputs, || Ok(vehicle))?;
     let clearance = per_wheelset
         .iter()
         .flatten()
