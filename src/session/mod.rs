@@ -6,6 +6,7 @@
 
 pub mod cache;
 pub mod contact;
+pub mod flange_clearance;
 pub mod load;
 pub mod plan;
 pub mod settings;
@@ -71,7 +72,26 @@ impl Session {
             s.track.keep_longest_stretch,
         )?;
         load::add_loads(&mut vehicle, &s.load)?;
-        let settings = settings::system_settings(&ls, &vehicle_file, &track)?;
+        let mut settings = settings::system_settings(&ls, &vehicle_file, &track)?;
+        if settings.contact.flange == runtime::contact::FlangeSearch::Auto {
+            // Assembly's flangeway clearances, from the cache (the planner
+            // has usually swept them already).
+            let m = &track.meta;
+            let inputs = flange_clearance::ClearanceInputs {
+                vehicle_file: &vehicle_file,
+                rail: &ls.path(&s.track.rail_profile),
+                placement: runtime::geometry::profile::RailPlacement {
+                    gauge_m: m.gauge_m,
+                    rail_spacing_m: m.rail_spacing_m,
+                    inclination_rad: m.rail_inclination_rad,
+                },
+                keep_longest_stretch: s.track.keep_longest_stretch,
+            };
+            settings.flange_clearances_m =
+                Some(flange_clearance::flange_clearances(&inputs, || {
+                    Ok(&vehicle)
+                })?);
+        }
         let method = s.method()?;
         Ok(Session {
             scene: ls,

@@ -90,28 +90,31 @@ impl<'a> VehicleSystem<'a> {
         let mut initial_states = Vec::new();
         let mut memory = Vec::new();
         let mut s_guess = Vec::new();
-        for (w, source) in vehicle.wheelsets.iter().zip(&mut sources) {
+        let given_clearances = given_flange_clearances(&settings, vehicle.wheelsets.len())?;
+        for (i, (w, source)) in vehicle.wheelsets.iter().zip(&mut sources).enumerate() {
             let assembly_err = |reason: String| DynamicsError::Assembly {
                 wheelset: w.name.clone(),
                 reason,
             };
             let mut options = settings.contact;
             if options.flange == FlangeSearch::Auto {
-                // Identical wheelsets (the usual case) share one computation.
-                let same = vehicle
+                // The caller's cached sweep; else identical wheelsets (the
+                // usual case) share one computation.
+                if let Some(c) = given_clearances.map(|c| c[i]) {
+                    options.flange_clearance_m = c.map(|side| side.unwrap_or(0.0));
+                } else if let Some(c) = vehicle
                     .wheelsets
                     .iter()
                     .zip(&solvers)
                     .find(|(other, _)| other.contact == w.contact)
-                    .map(|(_, s): (_, &ContactSolver)| s.options.flange_clearance_m);
-                match same {
-                    Some(c) => options.flange_clearance_m = c,
-                    None => {
-                        for side in Side::BOTH {
-                            let clearance = flange_clearance_m(&w.contact, side)
-                                .map_err(|e| assembly_err(format!("flangeway clearance: {e}")))?;
-                            options.flange_clearance_m[side_index(side)] = clearance.unwrap_or(0.0);
-                        }
+                    .map(|(_, s): (_, &ContactSolver)| s.options.flange_clearance_m)
+                {
+                    options.flange_clearance_m = c;
+                } else {
+                    for side in Side::BOTH {
+                        let clearance = flange_clearance_m(&w.contact, side)
+                            .map_err(|e| assembly_err(format!("flangeway clearance: {e}")))?;
+                        options.flange_clearance_m[side_index(side)] = clearance.unwrap_or(0.0);
                     }
                 }
             }
@@ -286,8 +289,78 @@ impl<'a> VehicleSystem<'a> {
             ledger: None,
             track_end_reached: false,
             contact_pattern: Vec::new(),
+            accepted: Default::default(),
             settings,
         };
         Ok((system, y0))
+    }
+}
+
+/// The caller's flangeway clearances ([`SystemSettings::flange_clearances_m`]),
+/// checked: one entry per wheelset, each finite and ≥ 0.
+fn given_flange_clearances(
+    settings: &SystemSettings,
+    n_wheelsets: usize,
+) -> Result<Option<&[crate::multibody::FlangeClearances]>, DynamicsError> {
+    let Some(c) = &settings.flange_clearances_m else {
+        return Ok(None);
+    };
+    if c.len() != n_wheelsets {
+        return Err(DynamicsError::Assembly {
+            wheelset: String::from("(all)"),
+            reason: format!(
+                "{} flangeway clearances given for {n_wheelsets} wheelsets",
+                c.len()
+            ),
+        });
+    }
+    for &v in c.iter().flatten().flatten() {
+        if !(v.is_finite() && v >= 0.0) {
+            return Err(DynamicsError::Setting {
+                setting: "flangeway clearance (m)",
+                value: v,
+                rule: "must be finite and ≥ 0",
+            });
+        }
+    }
+    Ok(Some(c))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fixtures::vehicles::ShippedVehicle;
+
+    /// The caller's clearances replace assembly's sweep (which gives the
+    /// same values when they come from the same model); a wrong count or
+    /// value is refused.
+    #[test]
+    fn given_flange_clearances_replace_the_sweep() {
+        let which = ShippedVehicle::Ml95Bogie;
+        let (vehicle, track) = which.build().expect("the shipped profiles");
+        let assemble = |given: Option<Vec<[Option<f64>; 2]>>| {
+            let settings = SystemSettings {
+                flange_clearances_m: given,
+                ..which.settings(20.0)
+            };
+            VehicleSystem::assemble(&track, &vehicle, settings, InitialConditions::default())
+                .map(|(s, y0)| (s.solvers()[1].options.flange_clearance_m, y0))
+        };
+        let (swept, y0) = assemble(None).expect("assembles");
+        assert!(swept.iter().all(|c| *c > 0.001), "{swept:?}");
+        let same = [Some(swept[0]), Some(swept[1])];
+        let (given, y0_given) = assemble(Some(vec![same; 2])).expect("assembles");
+        assert_eq!(given, swept);
+        assert_eq!(y0_given, y0);
+        let (other, _) = assemble(Some(vec![[Some(0.123), None]; 2])).expect("assembles");
+        assert_eq!(other, [0.123, 0.0]);
+        assert!(matches!(
+            assemble(Some(vec![same])),
+            Err(DynamicsError::Assembly { .. })
+        ));
+        assert!(matches!(
+            assemble(Some(vec![[Some(-0.001), None]; 2])),
+            Err(DynamicsError::Setting { .. })
+        ));
     }
 }

@@ -43,6 +43,7 @@ impl VehicleSystem<'_> {
     /// memories; commits nothing.
     pub fn evaluate(&mut self, t: f64, y: &[f64]) -> Result<(), DynamicsError> {
         self.counters.evaluations += 1;
+        self.accepted.current = false;
         let track = self.track;
         let vehicle = self.vehicle;
         let c = &track.centerline;

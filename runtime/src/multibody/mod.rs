@@ -64,7 +64,8 @@ pub use error::DynamicsError;
 pub use imported_contact::ImportedContact;
 pub use recorder::Recorder;
 pub use settings::{
-    BRAKE_STICK_SPEED_M_S, ContactMethod, GRAVITY_M_S2, InitialConditions, SystemSettings,
+    BRAKE_STICK_SPEED_M_S, ContactMethod, FlangeClearances, GRAVITY_M_S2, InitialConditions,
+    SystemSettings,
 };
 pub use system::{
     RunCounters, TRACK_END_MARGIN_M, TRACK_START_MARGIN_M, VehicleSystem, WheelsetSnapshot,

@@ -60,14 +60,20 @@ impl Recorder {
         }
     }
 
-    /// Evaluates the system at (t, y) and appends the sample.
+    /// Evaluates the system at (t, y) and appends the sample. At an
+    /// accepted state whose evaluation is still the last one
+    /// ([`VehicleSystem::evaluated_at`]: the output times that fall on a
+    /// step) that evaluation is used as it is: the same values without a
+    /// second evaluation.
     pub fn record(
         &mut self,
         system: &mut VehicleSystem<'_>,
         t: f64,
         y: &[f64],
     ) -> Result<(), DynamicsError> {
-        system.evaluate(t, y)?;
+        if !system.evaluated_at(t, y) {
+            system.evaluate(t, y)?;
+        }
         let track = system.track();
         let snapshots = system.snapshots();
         let wheel_l = |snap: &WheelsetSnapshot, side: Side| -> Result<f64, DynamicsError> {
@@ -215,4 +221,88 @@ fn main_contact(
             },
         )
         .max_by(|a, b| a.1.normal.force_n.total_cmp(&b.1.normal.force_n))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fixtures::vehicles::ShippedVehicle;
+    use crate::integrators::{Method, OdeSystem, OutputGrid, Rk4, integrate};
+    use crate::multibody::InitialConditions;
+
+    /// RK4 step (s): 2⁻¹¹ s, about 0.5 ms, so that the grid times below are
+    /// exact in binary and fall on the steps bit for bit.
+    const H_S: f64 = 1.0 / 2048.0;
+
+    /// RK4 over `steps` steps of [`H_S`] with an output every
+    /// `interval_s`: the system's evaluation count and the samples.
+    fn run(interval_s: f64, steps: u32) -> (u64, usize) {
+        let which = ShippedVehicle::Ml95Wheelset;
+        let (vehicle, track) = which.build().expect("the shipped profiles");
+        let initial = InitialConditions {
+            lateral_m: 0.001,
+            yaw_rad: 0.0,
+        };
+        let (mut system, y0) =
+            VehicleSystem::assemble(&track, &vehicle, which.settings(20.0), initial)
+                .expect("assembles");
+        let mut recorder = Recorder::new(&system);
+        let h = H_S;
+        integrate(
+            &Method::Rk4(Rk4 { step_s: h }),
+            &mut system,
+            0.0,
+            &y0,
+            f64::from(steps) * h,
+            &OutputGrid { interval_s },
+            &mut |sys, t, y| recorder.record(sys, t, y),
+        )
+        .expect("integrates");
+        (system.counters().evaluations, recorder.results.len())
+    }
+
+    /// Samples at accepted states (the output grid on the steps) cost no
+    /// evaluation; samples between steps are evaluated.
+    #[test]
+    fn samples_at_accepted_states_reuse_their_evaluation() {
+        let steps = 8;
+        // RK4: one evaluation at the start, four per step.
+        let integrator_evaluations = 1 + 4 * u64::from(steps);
+        let (evaluations, samples) = run(2.0 * H_S, steps);
+        assert_eq!(samples, 5);
+        assert_eq!(evaluations, integrator_evaluations);
+        // Every 1.5 steps: 0, 1.5, 3, 4.5, 6, 7.5 and the final 8 steps;
+        // 1.5, 4.5 and 7.5 fall between steps, and the final state comes
+        // after the evaluation at 7.5 (no longer the last one): 4.
+        let (evaluations, samples) = run(1.5 * H_S, steps);
+        assert_eq!(samples, 7);
+        assert_eq!(evaluations, integrator_evaluations + 4);
+    }
+
+    /// The last accepted state's evaluation is current until the next
+    /// evaluation, and only for that state, bit for bit.
+    #[test]
+    fn evaluated_at_holds_until_the_next_evaluation() {
+        let which = ShippedVehicle::Ml95Wheelset;
+        let (vehicle, track) = which.build().expect("the shipped profiles");
+        let (mut system, y0) = VehicleSystem::assemble(
+            &track,
+            &vehicle,
+            which.settings(20.0),
+            InitialConditions::default(),
+        )
+        .expect("assembles");
+        let mut dydt = vec![0.0; y0.len()];
+        assert!(!system.evaluated_at(0.0, &y0));
+        system.rhs(0.0, &y0, &mut dydt).expect("evaluates");
+        assert!(!system.evaluated_at(0.0, &y0), "not accepted yet");
+        system.accept(0.0, &y0).expect("accepts");
+        assert!(system.evaluated_at(0.0, &y0));
+        assert!(!system.evaluated_at(1e-9, &y0));
+        let mut y1 = y0.clone();
+        y1[1] = f64::from_bits(y1[1].to_bits() + 1);
+        assert!(!system.evaluated_at(0.0, &y1));
+        system.evaluate(0.0, &y0).expect("evaluates");
+        assert!(!system.evaluated_at(0.0, &y0), "evaluated since");
+    }
 }

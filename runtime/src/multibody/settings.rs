@@ -98,7 +98,18 @@ pub struct SystemSettings {
     /// Switchable choices of the equations of motion (ours by default;
     /// [`super::formulation`]).
     pub formulation: super::formulation::Formulation,
+    /// Flangeway clearance of every wheelset towards [left, right] (m, ≥ 0;
+    /// `None` where the flange does not touch), in vehicle order, as
+    /// `crate::contact::quasi_static::flange_clearance_m` gives it for the
+    /// wheelset's contact model: the caller's cached sweep. Used with the
+    /// flange search `auto` only; `None` (the default): assembly sweeps
+    /// (identical wheelsets once), about 0.1 s per contact model.
+    pub flange_clearances_m: Option<Vec<FlangeClearances>>,
 }
+
+/// The flangeway clearances of one wheelset, [left, right] (m; `None`
+/// where the flange does not touch; [`SystemSettings::flange_clearances_m`]).
+pub type FlangeClearances = [Option<f64>; 2];
 
 impl Default for SystemSettings {
     fn default() -> Self {
@@ -117,6 +128,7 @@ impl Default for SystemSettings {
             derailment_lateral_m: 0.05,
             gravity_m_s2: GRAVITY_M_S2,
             formulation: Default::default(),
+            flange_clearances_m: None,
         }
     }
 }

@@ -61,7 +61,9 @@ impl WheelsetSnapshot {
 /// Counters of a run.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct RunCounters {
-    /// Right-hand-side evaluations (integrator stages and output samples).
+    /// Right-hand-side evaluations: integrator stages, and output samples
+    /// that fall between accepted states (a sample at an accepted state
+    /// reuses that state's evaluation, [`VehicleSystem::evaluated_at`]).
     pub evaluations: u64,
     /// Accepted states.
     pub accepted: u64,
@@ -129,6 +131,19 @@ pub struct VehicleSystem<'a> {
     /// Per contact candidate at the last accepted state: 0 apart, 1 in
     /// contact on the tread, 2 on the flange ([`OdeSystem::structure_changed`]).
     pub(super) contact_pattern: Vec<u8>,
+    /// The last accepted state (t s, y), and whether the last evaluation
+    /// is still that state's ([`VehicleSystem::evaluated_at`]).
+    pub(super) accepted: AcceptedState,
+}
+
+/// The last accepted state and whether nothing was evaluated since.
+#[derive(Debug, Clone, Default)]
+pub(super) struct AcceptedState {
+    pub(super) t_s: f64,
+    pub(super) y: Vec<f64>,
+    /// Whether the last evaluation is the one at (`t_s`, `y`): set by
+    /// `accept`, cleared by every evaluation.
+    pub(super) current: bool,
 }
 
 /// A run stops when the vehicle reference point or a wheelset comes this
@@ -246,6 +261,21 @@ impl<'a> VehicleSystem<'a> {
         self.ledger.as_ref()
     }
 
+    /// Whether everything computed for (t, y) — snapshots, states,
+    /// wrenches, element forces — is already the last evaluation's: (t, y)
+    /// is the last accepted state, bit for bit, and nothing was evaluated
+    /// since (the integrators call `rhs` then `accept` at every accepted
+    /// state, [`crate::integrators`] "Protocol"). Evaluating again would
+    /// recompute the same values; an output sample at an accepted state
+    /// uses this to skip that evaluation ([`super::Recorder::record`]).
+    pub fn evaluated_at(&self, t: f64, y: &[f64]) -> bool {
+        let a = &self.accepted;
+        a.current
+            && a.t_s.to_bits() == t.to_bits()
+            && a.y.len() == y.len()
+            && a.y.iter().zip(y).all(|(p, q)| p.to_bits() == q.to_bits())
+    }
+
     pub(super) fn anchor_index(&self, end: End) -> Option<usize> {
         let n_ws = self.vehicle.wheelsets.len();
         let n_b = self.vehicle.bodies.len();
@@ -298,10 +328,14 @@ impl OdeSystem for VehicleSystem<'_> {
         Ok(())
     }
 
-    fn accept(&mut self, t: f64, _y: &[f64]) -> Result<Control, DynamicsError> {
+    fn accept(&mut self, t: f64, y: &[f64]) -> Result<Control, DynamicsError> {
         // The last rhs call was at this state: its hysteresis memory is the
         // one to keep.
         self.memory.clone_from(&self.pending);
+        self.accepted.t_s = t;
+        self.accepted.y.clear();
+        self.accepted.y.extend_from_slice(y);
+        self.accepted.current = true;
         self.counters.accepted += 1;
         for (i, snap) in self.snapshots.iter().enumerate() {
             for side in Side::BOTH {

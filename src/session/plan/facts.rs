@@ -7,7 +7,6 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
-use runtime::contact::quasi_static::flange_clearance_m;
 use runtime::geometry::track::{Side, TrackTables};
 use runtime::multibody::VehicleModel;
 use serde::Serialize;
@@ -310,7 +309,8 @@ impl<'a> CheckModel<'a> {
 }
 
 /// Flangeway clearance and yawed-flange reach of the vehicle's wheelsets;
-/// the clearance (a quasi-static sweep, about 0.2 s) is cached
+/// the clearance (a quasi-static sweep, about 0.1 s per contact model,
+/// shared with assembly through [`crate::session::flange_clearance`]) is cached
 /// ([`crate::session::cache`]) under a key of the profiles' texts, the wheelsets'
 /// radius and back-to-back, the rail placement and the tool version.
 pub(super) fn flange_facts(ls: &LoadedScene, check: &mut CheckModel) -> Result<FlangeFacts> {
@@ -344,22 +344,33 @@ pub(super) fn flange_facts(ls: &LoadedScene, check: &mut CheckModel) -> Result<F
     }) {
         return Ok(facts(c, r));
     }
+    let rail = check.rail().to_path_buf();
+    let m = &check.track.meta;
+    let inputs = crate::session::flange_clearance::ClearanceInputs {
+        vehicle_file: v,
+        rail: &rail,
+        placement: runtime::geometry::profile::RailPlacement {
+            gauge_m: m.gauge_m,
+            rail_spacing_m: m.rail_spacing_m,
+            inclination_rad: m.rail_inclination_rad,
+        },
+        keep_longest_stretch: check.keep_longest_stretch,
+    };
     let (_, vehicle) = check.model()?;
-    let mut clearance = f64::INFINITY;
+    // The sweep shared with assembly (`crate::session::flange_clearance`).
+    let per_wheelset =
+        crate::session::flange_clearance::flange_clearances(&inputs, || Ok(vehicle))?;
+    let clearance = per_wheelset
+        .iter()
+        .flatten()
+        .flatten()
+        .fold(f64::INFINITY, |a, &c| a.min(c));
     let mut reach = 0.0_f64;
-    let mut done: Vec<&runtime::contact::WheelsetContactModel> = Vec::new();
     for w in &vehicle.wheelsets {
-        if done.contains(&&w.contact) {
-            continue;
-        }
         for side in Side::BOTH {
-            let c = flange_clearance_m(&w.contact, side)
-                .with_context(|| format!("flangeway clearance of wheelset '{}'", w.name))?;
-            clearance = clearance.min(c.unwrap_or(f64::INFINITY));
             let wheel = w.contact.wheel(side);
             reach = reach.max((2.0 * wheel.nominal_radius_m() * wheel.flange_depth_m()).sqrt());
         }
-        done.push(&w.contact);
     }
     // Written atomically (the workspace's one atomic writer); a failure to
     // cache is not an error: the next plan measures again.
