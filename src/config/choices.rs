@@ -147,7 +147,7 @@ choice! {
         Dopri5 = "dopri5",
         /// Linearly implicit Rosenbrock-W ROS34PW2, adaptive (`rtol`,
         /// `atol`, `max_step_s`): for the stiff contact modes
-        /// (docs/reference/08-multibody.md §8.6).
+        /// (docs/reference/08-multibody.md §8.5).
         Rosenbrock = "rosenbrock",
     }
 }

@@ -2,33 +2,29 @@
 //! its block structure, its finite-difference evaluation and the
 //! factorisation of the iteration matrix W = I/(hγ) − J, block by block.
 //!
-//! # Block-diagonal structure (docs/reference/08-multibody.md §8.6)
+//! # Block-diagonal structure (docs/reference/08-multibody.md §8.5)
 //!
 //! A Rosenbrock-W method keeps its order with *any* matrix in place of the
 //! Jacobian ∂f/∂y (Steihaug & Wolfbrandt 1979; Hairer & Wanner, *Solving
 //! ODEs II*, §IV.7, "W-methods"); the matrix only decides which modes are
-//! treated implicitly, i.e. the method's stability. The stiff modes of a
-//! vehicle on the track — the creep damping of a wheelset's spin, lateral
-//! and yaw motion, the Hertzian contact stiffness — act on **one body's own
-//! states**: a wheelset's contact forces depend on that wheelset's state
-//! and the track only. So the system may declare diagonal **blocks** (one
-//! per body, one per element's internal states) and the Jacobian is
-//! approximated by its diagonal blocks ∂f_b/∂y_b; the coupling between
-//! bodies (the suspensions, far softer) is integrated explicitly by the
-//! method's stages. Components outside every block get a zero Jacobian row
-//! and column (treated explicitly).
-//!
+//! treated implicitly, i.e. the method's stability. A system whose stiff
+//! modes act on disjoint groups of its states may declare diagonal
+//! **blocks** ([`super::OdeSystem::jacobian_blocks`]) and the Jacobian is
+//! approximated by them; the coupling between blocks is then integrated
+//! explicitly by the stages, and components outside every block get a zero
+//! Jacobian row and column. The default is one dense block. The vehicle
+//! keeps the default: its primary suspensions couple wheelset and frame as
+//! stiffly as the contact (docs/reference/08-multibody.md §8.5, measured).
+
 //! # Finite differences with simultaneous perturbation
 //!
-//! Blocks whose states do not act directly on each other's derivatives (two
-//! wheelsets: each one's forces depend on its own state, the frame's and the
-//! track's) are put in one **group** and perturbed together: column j of
+//! Blocks whose states do not act directly on each other's derivatives are
+//! put in one **group** and perturbed together: column j of
 //! every block of the group is perturbed in the same evaluation and each
 //! block reads only its own rows, which no other block of the group
 //! disturbs (Curtis, Powell & Reid, "On the estimation of sparse Jacobian
 //! matrices", J. Inst. Math. Appl. 13 (1974) 117–119). A group costs as
-//! many evaluations as its largest block has columns: 13 for all the
-//! wheelsets of a car together. Forward differences with the increment
+//! many evaluations as its largest block has columns. Forward differences with the increment
 //! δ_i = [`FD_RELATIVE_STEP`]·max(|y_i|, 1) (state units): large against the
 //! contact solve's convergence tolerance, small against the forces'
 //! nonlinearity — the Jacobian need not be accurate (W-method), only

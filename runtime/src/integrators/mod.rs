@@ -2,7 +2,7 @@
 //! fixed-step classical Runge–Kutta (RK4), adaptive Dormand–Prince 5(4)
 //! (DOPRI5) and, for the stiff contact modes, the adaptive linearly
 //! implicit Rosenbrock-W method ROS34PW2 with a block-diagonal
-//! finite-difference Jacobian ([`rosenbrock`], docs/reference/08-multibody.md §8.6), all with dense
+//! finite-difference Jacobian ([`rosenbrock`], docs/reference/08-multibody.md §8.5), all with dense
 //! output, behind one entry point, [`integrate`].
 //!
 //! # Why hand-written rather than a crate

@@ -2,7 +2,7 @@
 //! vehicle equations, with a block-diagonal finite-difference Jacobian
 //! reused over many steps.
 //!
-//! # Why (docs/reference/08-multibody.md §8.6)
+//! # Why (docs/reference/08-multibody.md §8.5)
 //!
 //! The explicit methods' step is capped by stability, not accuracy: the
 //! creep damping of a wheelset's spin and lateral motion and the Hertzian

@@ -1,5 +1,5 @@
 //! A wheelset's equations of motion in its **non-spinning axle frame**
-//! (docs/reference/08-multibody.md §8.7).
+//! (docs/reference/08-multibody.md §8.1, "Wheelsets in their axle frame").
 //!
 //! A wheelset is a body of revolution about its axle (body y): its inertia
 //! is diag(I_r, I_y, I_r) in any frame that shares the axle. So its state

@@ -236,8 +236,17 @@ fn reduced_rhs(
         let d = &dy[BodyState::slot(k)];
         let vdot = Vector3::new(d[7], d[8], d[9]);
         let wdot_body = Vector3::new(d[10], d[11], d[12]);
-        // ω̇ (global) = R ω̇_b + ω × (R ω_b) = R ω̇_b.
-        let wdot = st.orientation * wdot_body;
+        // ω̇ (global) = d(R ω)/dt = R (ω̇ + ω_f × ω), ω_f the frame's own
+        // angular velocity in its axes: ω itself for a body (so ω̇ = R ω̇_b),
+        // ω without the spin for a wheelset in its axle frame
+        // (docs/reference/08-multibody.md §8.1).
+        let w = st.angular_velocity_rad_s;
+        let w_frame = if k < base.n_ws {
+            Vector3::new(w.x, 0.0, w.z)
+        } else {
+            w
+        };
+        let wdot = st.orientation * (wdot_body + w_frame.cross(&w));
         out[i] = match kind {
             Kind::Position(a) => {
                 // Δẋ: the velocity perturbation state.

@@ -301,7 +301,7 @@ impl OdeSystem for VehicleSystem<'_> {
             .map(|w| &w.body)
             .chain(vehicle.bodies.iter().map(|b| &b.body));
         // Wheelsets in their axle frame (docs/reference/08-multibody.md
-        // §8.7), the other bodies in body axes.
+        // §8.1, "Wheelsets in their axle frame"), the other bodies in body axes.
         let n_ws = vehicle.wheelsets.len();
         for (k, body) in bodies.enumerate() {
             let f = if k < n_ws {
