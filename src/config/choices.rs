@@ -175,6 +175,8 @@ choice! {
         Step = "step",
         /// The track range.
         Range = "range",
+        /// The integrator and its step or tolerances.
+        Integrator = "integrator",
         /// Every item.
         All = "all",
     }

@@ -10,6 +10,7 @@
 //! | track range | only the stretch the run covers: from the rearmost point of the vehicle (wheelsets, bodies, references) at the start, minus [`RANGE_MARGIN_M`], to the foremost point at the end (distance, or duration × speed, less with a deceleration), plus the 2 m the dynamics keeps ahead and [`RANGE_MARGIN_M`]. Built in memory ([`build_track_range`]); the rows are those of the whole-track table (same grid). |
 //! | table step | exact at any step on an ideal straight (linear interpolation of straight lines; `sim tradeoff` on the bogie measured zero error up to 1 m): [`MAX_STEP_M`]. Otherwise the coarsest of [`NICE_STEPS_M`] whose chord error h²κ/8 stays within [`GEOMETRY_TOLERANCE_M`] (κ the largest curvature of the rails over the range, irregularities included). The paper's rule h ≤ V·Δt (§2) is reported for comparison. |
 //! | contact method | the contact lookup table where its error measured by `sim tradeoff` (`tables/planner/measured.toml`, [`measured()`]) is within the scene's `run.lateral_tolerance_m`; online otherwise (and always without a stated tolerance). |
+//! | integrator | `rosenbrock` (ROS34PW2, docs/reference/08-multibody.md §8.5; rtol 1e-9, largest step 10 ms) at atol [`SUSPENDED_ATOL`] = 5e-6, or [`FREE_FLANGE_ATOL`] = 2e-7 when a free wheelset (no suspension element attached) may reach its flanges (flange search `auto` or `on`); with `run.lateral_tolerance_m`, atol ≤ tolerance / the measured error per atol (2 suspended, 7 free with flange). Measured against RK4 at 0.1 ms: bogie 9.8 µm (20 m/s) and 8.2 µm (36 m/s), car 4.5 µm at 5e-6, 4–5× faster than RK4 at 0.5 ms; the flange-limited free wheelset 88 µm at 5e-6, 1.4 µm at 2e-7 ([`integrator`]). |
 //! | creep law | never chosen (it is physics, not numerics); its cost relative to Polach, measured by `sim tradeoff`, is stated (`tables/planner/measured.toml`, [`measured()`]). |
 //!
 //! The `[plan]` section of the scene says who decides:
@@ -19,20 +20,21 @@
 //!   would choose (the cheap checks only: no linearisation).
 //! - `mode = "required"`: the planner chooses every item the scene leaves
 //!   out — an entry present in the scene (`contact.flange`,
-//!   `contact.method`, `track.step_m`, `track.range_m`) forces that choice —
-//!   and the items listed in `choose` (`flange`, `method`, `step`, `range`,
-//!   or `all`) even when the scene sets them.
+//!   `contact.method`, `track.step_m`, `track.range_m`, `run.integrator`)
+//!   forces that choice — and the items listed in `choose` (`flange`,
+//!   `method`, `step`, `range`, `integrator`, or `all`) even when the scene
+//!   sets them.
 //! - `mode = "everything"`: the reference to measure against — flange
 //!   always searched, online contact (an imported contact stays), the finest
 //!   table step [`FINEST_STEP_M`] (the `sim tradeoff` reference's), the
-//!   whole track.
+//!   whole track, RK4 at [`REFERENCE_STEP_S`] = 0.1 ms.
 //!
 //! The decisions are one block of the output ([`Plan::to_text`]), the
 //! `plan` object of `sim run --json` and the `plan` attribute of the
 //! results file.
 //!
 //! One file per decision — [`flange`], [`irregularities`], [`range`],
-//! [`step`], [`method`], [`creep_law`] — each deciding from what it is
+//! [`step`], [`method`], [`integrator`], [`creep_law`] — each deciding from what it is
 //! given ([`facts`]: the track over the range, the vehicle's flange, the
 //! distance travelled) and returning its [`Decision`] and value; [`plan`]
 //! calls them in order. The vehicle model of the flange checks is built at
@@ -44,6 +46,7 @@
 pub mod creep_law;
 pub mod facts;
 pub mod flange;
+pub mod integrator;
 pub mod irregularities;
 pub mod measured;
 pub mod method;
@@ -66,6 +69,9 @@ pub use facts::{
 pub use flange::{
     AUTO_MARGIN_M, FlangeGuard, GUARD_MARGIN_M, MIN_HUNTING_DAMPING, START_FRACTION, guard_check,
 };
+pub use integrator::{
+    FREE_FLANGE_ATOL, IntegratorChoice, IntegratorPlan, REFERENCE_STEP_S, SUSPENDED_ATOL,
+};
 pub use measured::{
     CreepLawCost, CreepLawCosts, Measured, MeasuredTableError, Provenance, TrackKind, measured,
 };
@@ -73,7 +79,7 @@ pub use range::{build_config, build_track_range, geometry_files};
 pub use step::{FINEST_STEP_M, GEOMETRY_TOLERANCE_M, MAX_STEP_M, NICE_STEPS_M};
 
 /// The items the planner may choose (`[plan] choose`).
-pub const ITEMS: [&str; 4] = ["flange", "method", "step", "range"];
+pub const ITEMS: [&str; 5] = ["flange", "method", "step", "range", "integrator"];
 
 /// Who set a value.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -101,7 +107,7 @@ impl By {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Decision {
     /// `flange_search`, `irregularities`, `track_range`, `table_step`,
-    /// `contact_method`, `creep_law`.
+    /// `contact_method`, `integrator`, `creep_law`.
     pub item: String,
     pub value: String,
     pub by: By,
@@ -124,6 +130,8 @@ pub struct Plan {
     pub range_m: Option<[f64; 2]>,
     /// Length of an ideal straight (m), shortened to the range.
     pub straight_m: Option<f64>,
+    /// The integrator (`choice: None`: the scene's).
+    pub integrator: IntegratorPlan,
     /// Watch an `off` run (see [`FlangeGuard`]).
     pub flange_guard: Option<FlangeGuard>,
     /// Set when a run was repeated: why.
@@ -145,6 +153,7 @@ fn explicit_entries(ls: &LoadedScene) -> BTreeSet<String> {
         ("contact", "method"),
         ("track", "step_m"),
         ("track", "range_m"),
+        ("run", "integrator"),
     ] {
         if table
             .get(section)
@@ -230,6 +239,15 @@ pub fn plan(ls: &LoadedScene) -> Result<Plan> {
     );
     decisions.push(decision);
 
+    let (decision, integrator) = integrator::decide(
+        scene,
+        integrator::free_wheelsets(&vfile),
+        flange,
+        mode,
+        planner_chooses(PlanItem::Integrator, "run.integrator"),
+    );
+    decisions.push(decision);
+
     decisions.push(creep_law::decide(c.creep_law)?);
 
     Ok(Plan {
@@ -240,6 +258,7 @@ pub fn plan(ls: &LoadedScene) -> Result<Plan> {
         step_m,
         range_m: range.range_m,
         straight_m: range.straight_m,
+        integrator,
         flange_guard,
         revised: None,
         track,
@@ -262,6 +281,9 @@ impl Plan {
         if s.track.straight_m.is_some() {
             s.track.straight_m = self.straight_m;
         }
+        if let Some(c) = &self.integrator.choice {
+            c.apply(&mut s.run);
+        }
         out
     }
 
@@ -278,6 +300,9 @@ impl Plan {
         {
             d.value = "auto".into();
             d.reason = format!("revised during the run ({why}); planned off: {}", d.reason);
+        }
+        if let Some(d) = self.decisions.iter_mut().find(|d| d.item == "integrator") {
+            integrator::revise(&mut self.integrator, d);
         }
     }
 
@@ -315,9 +340,16 @@ mod tests {
         ])
         .expect("a valid [plan]");
         assert!(ok.scene.plan.chooses(PlanItem::Step));
+        let ok = LoadedScene::default_scene(&[
+            "plan.mode=required".into(),
+            "plan.choose=[\"integrator\"]".into(),
+        ])
+        .expect("the integrator is a choose item");
+        assert!(ok.scene.plan.chooses(PlanItem::Integrator));
+        assert!(!ok.scene.plan.chooses(PlanItem::Step));
         for (mode, choose, what) in [
             ("sometimes", "[]", "sometimes"),
-            ("required", "[\"integrator\"]", "integrator"),
+            ("required", "[\"creep_law\"]", "creep_law"),
             ("scene", "[\"flange\"]", "choose"),
         ] {
             let e = LoadedScene::default_scene(&[
