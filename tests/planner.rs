@@ -587,7 +587,8 @@ fn the_planner_chooses_rosenbrock_for_the_bogie_and_the_run_uses_it() {
 
 /// The scene file's text with `run.distance_m` replaced.
 fn scene_text_with_distance(scene: &Path, distance_m: f64) -> String {
-    std::fs::read_to_string(scene)
-        .expect("scene")
-        .replace("distance_m = 40.0", &format!("distance_m = {distance_m:.1}"))
+    std::fs::read_to_string(scene).expect("scene").replace(
+        "distance_m = 40.0",
+        &format!("distance_m = {distance_m:.1}"),
+    )
 }

@@ -325,13 +325,13 @@ pub struct RunArgs {
     #[arg(long, short)]
     pub quiet: bool,
     /// Model only what the scene requires: the planner chooses the flange
-    /// search, contact method, table step and track range wherever the
+    /// search, contact method, table step, track range and integrator wherever the
     /// scene leaves them out (= --set plan.mode=required; docs/guide/speed-accuracy-tradeoff.md "Only what
     /// the scene requires").
     #[arg(long, conflicts_with = "model_everything")]
     pub plan: bool,
     /// Model everything: flange always searched, online contact, the finest
-    /// table step, the whole track (= --set plan.mode=everything).
+    /// table step, the whole track, RK4 at 0.1 ms (= --set plan.mode=everything).
     #[arg(long)]
     pub model_everything: bool,
     /// Print the plan (what the run would model, and why) and exit.

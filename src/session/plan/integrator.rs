@@ -297,7 +297,11 @@ mod tests {
         assert_eq!(p.choice, None);
         assert_eq!(d.by, By::Scene);
         assert_eq!(d.value, "rk4 0.100 ms");
-        assert!(d.reason.contains("would choose rosenbrock atol 2.0e-7"), "{}", d.reason);
+        assert!(
+            d.reason.contains("would choose rosenbrock atol 2.0e-7"),
+            "{}",
+            d.reason
+        );
         // Required, set in the scene and not chosen: the scene's.
         let (_, p) = decide(s, free.clone(), FlangeMode::Auto, PlanMode::Required, false);
         assert_eq!(p.choice, None);
