@@ -12,12 +12,17 @@
 //! output interval: five evaluations (the initial state's, three stages,
 //! the accepted state's), one accept and two observer calls (t0 and t1,
 //! which do nothing), from a system already warm at y0.
+//!
+//! The same 0.1 s of motion (`span_0.1s/…`) with RK4 at 0.5 ms (200 steps)
+//! and with the stiff Rosenbrock-W method at its defaults (its Jacobians
+//! included; docs/reference/08-multibody.md §8.5): the cost per simulated
+//! time the two integrators are compared by.
 
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use runtime::fixtures::vehicles::ShippedVehicle;
-use runtime::integrators::{Method, OdeSystem, OutputGrid, Rk4, integrate};
+use runtime::integrators::{Method, OdeSystem, OutputGrid, Rk4, Rosenbrock, integrate};
 use runtime::multibody::{InitialConditions, VehicleSystem};
 
 /// Evaluations at the start state before timing (contact solver warm).
@@ -28,6 +33,8 @@ const SPEED_M_S: f64 = 20.0;
 const OFFSET_M: f64 = 0.001;
 /// The shipped scenes' RK4 step (s).
 const STEP_S: f64 = 5e-4;
+/// The span of the integrator comparison (s).
+const SPAN_S: f64 = 0.1;
 
 fn bench(c: &mut Criterion) {
     for which in ShippedVehicle::ALL {
@@ -72,6 +79,28 @@ fn bench(c: &mut Criterion) {
                 .expect("one step")
             })
         });
+        for (name, method) in [
+            ("rk4_0.5ms", Method::Rk4(Rk4 { step_s: STEP_S })),
+            ("rosenbrock", Method::Rosenbrock(Rosenbrock::default())),
+        ] {
+            c.bench_function(&format!("span_0.1s/{name}/{}", which.name()), |b| {
+                b.iter(|| {
+                    integrate(
+                        &method,
+                        &mut system,
+                        0.0,
+                        black_box(&y0),
+                        SPAN_S,
+                        &OutputGrid { interval_s: SPAN_S },
+                        &mut |_, _, y| {
+                            black_box(y[0]);
+                            Ok(())
+                        },
+                    )
+                    .expect("0.1 s")
+                })
+            });
+        }
     }
 }
 

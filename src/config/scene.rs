@@ -49,7 +49,7 @@
 //!
 //! (run)
 //! distance_m = 280.0        # or duration_s
-//! integrator = "rk4"        # rk4 | dopri5
+//! integrator = "rk4"        # rk4 | dopri5 | rosenbrock
 //! step_s = 1e-4             # rk4
 //! rtol = 1e-6               # dopri5
 //! atol = 1e-9
@@ -586,7 +586,8 @@ pub struct PlanSection {
     #[serde(default = "default_plan_mode")]
     pub mode: PlanMode,
     /// Items the planner chooses even when the scene sets them (with
-    /// `mode = "required"`): `flange`, `method`, `step`, `range`, or `all`.
+    /// `mode = "required"`): `flange`, `method`, `step`, `range`,
+    /// `integrator`, or `all`.
     #[serde(default)]
     pub choose: Vec<PlanItem>,
 }

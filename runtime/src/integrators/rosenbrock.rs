@@ -38,7 +38,7 @@
 //! ```
 //!
 //! The transformed coefficients are computed from the published ones by
-//! [`Tableau::ros34pw2`] (tested against the order conditions). The
+//! `Tableau::ros34pw2` (tested against the order conditions). The
 //! time derivative ∂f/∂t is taken as zero: for a W-method this is one more
 //! admissible choice of the matrix (the Jacobian of the autonomous form
 //! with its time column approximated by zero), so the order stays 3.

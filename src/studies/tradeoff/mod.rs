@@ -614,6 +614,8 @@ mod tests {
             "flange off",
             "rk4 1 ms",
             "dopri5 rtol 1e-6",
+            "rosenbrock atol 5e-6",
+            "rosenbrock atol 2e-7",
             "creep kalker",
             "creep fastrip",
             "scheme pchip",
@@ -640,7 +642,8 @@ mod tests {
         assert_eq!(vs.scene.run.step_s, s.scene.run.step_s);
         assert_eq!(vs.scene.contact.flange, s.scene.contact.flange);
         let (quick, _) = variants(&s.scene, true);
-        assert_eq!(quick.len(), 5);
+        assert_eq!(quick.len(), 6);
+        assert!(quick.iter().any(|v| v.name == "rosenbrock atol 5e-6"));
         let q = quick_scene(&s, false).unwrap();
         assert_eq!(q.scene.run.distance_m, Some(QUICK_DISTANCE_M));
     }

@@ -125,7 +125,8 @@ fn scene_settings(scene: &Scene) -> Vec<String> {
 }
 
 /// The variants of a study of `scene` (module docs); `quick`: the reference
-/// and four (RK4 at 1 and 0.2 ms, table step 1 m, "quick look"). The table
+/// and five (RK4 at 1 and 0.2 ms, Rosenbrock at its defaults, table step
+/// 1 m, "quick look"). The table
 /// step and scheme knobs are left out when the scene reads a table file
 /// (they are ignored then) and the scheme when it uses an ideal straight;
 /// the reasons are returned.
@@ -135,6 +136,14 @@ pub fn variants(scene: &Scene, quick: bool) -> (Vec<Variant>, Vec<String>) {
             "run.integrator=\"dopri5\"".into(),
             format!("run.rtol={rtol}"),
             format!("run.max_step_s={DOPRI5_MAX_STEP_S}"),
+        ]
+    };
+    // The stiff integrator at its defaults but atol
+    // (docs/reference/08-multibody.md §8.5).
+    let ros = |atol: &str| -> Vec<String> {
+        vec![
+            "run.integrator=\"rosenbrock\"".into(),
+            format!("run.atol={atol}"),
         ]
     };
     let quick_look = Variant::new(
@@ -165,6 +174,9 @@ pub fn variants(scene: &Scene, quick: bool) -> (Vec<Variant>, Vec<String>) {
             Variant::new("rk4 1 ms", "rk4 step", "1 ms", &["run.step_s=1e-3"]),
             Variant::new("rk4 0.2 ms", "rk4 step", "0.2 ms", &["run.step_s=2e-4"]),
         ];
+        let mut r = Variant::new("rosenbrock atol 5e-6", "rosenbrock atol", "5e-6", &[]);
+        r.overrides = ros("5e-6");
+        v.push(r);
         if !tables_file {
             v.push(
                 Variant::new("table step 1 m", "table step", "1 m", &["track.step_m=1"])
@@ -222,6 +234,16 @@ pub fn variants(scene: &Scene, quick: bool) -> (Vec<Variant>, Vec<String>) {
     for rtol in ["1e-4", "1e-6", "1e-8", "1e-9"] {
         let mut var = Variant::new(&format!("dopri5 rtol {rtol}"), "dopri5 rtol", rtol, &[]);
         var.overrides = dp(rtol);
+        v.push(var);
+    }
+    for atol in ["5e-6", "1e-6", "2e-7"] {
+        let mut var = Variant::new(
+            &format!("rosenbrock atol {atol}"),
+            "rosenbrock atol",
+            atol,
+            &[],
+        );
+        var.overrides = ros(atol);
         v.push(var);
     }
     for law in ["kalker", "heuristic", "polach", "fastsim", "fastrip"] {
