@@ -85,7 +85,7 @@
 
 use super::{
     Control, IntegrationStats, IntegratorError, Observer, OdeSystem, OutputCursor, OutputGrid,
-    StepRange, eval, first_non_finite, invalid,
+    StepRange, eval, first_non_finite, invalid, validate_adaptive,
 };
 
 /// Adaptive Dormand–Prince 5(4) settings. The defaults suit the
@@ -194,40 +194,11 @@ const ERR_OLD_FLOOR: f64 = 1e-4;
 const LAST_STEP_STRETCH: f64 = 1.01;
 
 fn validate<E>(s: &Dopri5) -> Result<(), IntegratorError<E>> {
-    if !(s.rtol.is_finite() && s.rtol > 10.0 * f64::EPSILON) {
-        return Err(invalid(
-            "rtol",
-            s.rtol,
-            "must be finite and > 10·eps (2.2e-15)",
-        ));
-    }
-    if !(s.atol.is_finite() && s.atol > 0.0) {
-        return Err(invalid("atol", s.atol, "must be finite and > 0"));
-    }
+    validate_adaptive(s.rtol, s.atol, s.max_step_s, s.min_step_s, s.max_steps)?;
     if let Some(h) = s.initial_step_s
         && !(h.is_finite() && h > 0.0)
     {
         return Err(invalid("initial_step_s", h, "must be finite and > 0"));
-    }
-    if s.max_step_s.is_nan() || s.max_step_s <= 0.0 {
-        return Err(invalid(
-            "max_step_s",
-            s.max_step_s,
-            "must be > 0 (may be +inf)",
-        ));
-    }
-    if !(s.min_step_s.is_finite() && s.min_step_s >= 0.0) {
-        return Err(invalid(
-            "min_step_s",
-            s.min_step_s,
-            "must be finite and >= 0",
-        ));
-    }
-    if s.min_step_s > s.max_step_s {
-        return Err(invalid("min_step_s", s.min_step_s, "must be <= max_step_s"));
-    }
-    if s.max_steps == 0 {
-        return Err(invalid("max_steps", 0.0, "must be > 0"));
     }
     if !(s.pi_beta.is_finite() && (0.0..=0.2).contains(&s.pi_beta)) {
         return Err(invalid("pi_beta", s.pi_beta, "must lie in [0, 0.2]"));

@@ -281,6 +281,44 @@ fn validate_common<E>(
     Ok(())
 }
 
+/// Checks shared by the adaptive methods (DOPRI5, Rosenbrock): tolerances,
+/// step limits, the attempt budget; each rule named in the error.
+fn validate_adaptive<E>(
+    rtol: f64,
+    atol: f64,
+    max_step_s: f64,
+    min_step_s: f64,
+    max_steps: u64,
+) -> Result<(), IntegratorError<E>> {
+    if !(rtol.is_finite() && rtol > 10.0 * f64::EPSILON) {
+        return Err(invalid(
+            "rtol",
+            rtol,
+            "must be finite and > 10·eps (2.2e-15)",
+        ));
+    }
+    if !(atol.is_finite() && atol > 0.0) {
+        return Err(invalid("atol", atol, "must be finite and > 0"));
+    }
+    if max_step_s.is_nan() || max_step_s <= 0.0 {
+        return Err(invalid(
+            "max_step_s",
+            max_step_s,
+            "must be > 0 (may be +inf)",
+        ));
+    }
+    if !(min_step_s.is_finite() && min_step_s >= 0.0) {
+        return Err(invalid("min_step_s", min_step_s, "must be finite and >= 0"));
+    }
+    if min_step_s > max_step_s {
+        return Err(invalid("min_step_s", min_step_s, "must be <= max_step_s"));
+    }
+    if max_steps == 0 {
+        return Err(invalid("max_steps", 0.0, "must be > 0"));
+    }
+    Ok(())
+}
+
 /// Index of the first NaN or infinite entry.
 fn first_non_finite(v: &[f64]) -> Option<usize> {
     v.iter().position(|x| !x.is_finite())

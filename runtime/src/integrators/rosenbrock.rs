@@ -87,7 +87,7 @@ use super::jacobian::{BlockJacobian, JacobianBlocks};
 use super::rk4::hermite;
 use super::{
     Control, IntegrationStats, IntegratorError, Observer, OdeSystem, OutputCursor, OutputGrid,
-    StepRange, eval, first_non_finite, invalid,
+    StepRange, eval, first_non_finite, invalid, validate_adaptive,
 };
 
 /// Which Jacobian approximation the method uses (module docs).
@@ -256,42 +256,13 @@ impl Tableau {
 }
 
 fn validate<E>(s: &Rosenbrock) -> Result<(), IntegratorError<E>> {
-    if !(s.rtol.is_finite() && s.rtol > 10.0 * f64::EPSILON) {
-        return Err(invalid(
-            "rtol",
-            s.rtol,
-            "must be finite and > 10·eps (2.2e-15)",
-        ));
-    }
-    if !(s.atol.is_finite() && s.atol > 0.0) {
-        return Err(invalid("atol", s.atol, "must be finite and > 0"));
-    }
+    validate_adaptive(s.rtol, s.atol, s.max_step_s, s.min_step_s, s.max_steps)?;
     if !(s.initial_step_s.is_finite() && s.initial_step_s > 0.0) {
         return Err(invalid(
             "initial_step_s",
             s.initial_step_s,
             "must be finite and > 0",
         ));
-    }
-    if s.max_step_s.is_nan() || s.max_step_s <= 0.0 {
-        return Err(invalid(
-            "max_step_s",
-            s.max_step_s,
-            "must be > 0 (may be +inf)",
-        ));
-    }
-    if !(s.min_step_s.is_finite() && s.min_step_s >= 0.0) {
-        return Err(invalid(
-            "min_step_s",
-            s.min_step_s,
-            "must be finite and >= 0",
-        ));
-    }
-    if s.min_step_s > s.max_step_s {
-        return Err(invalid("min_step_s", s.min_step_s, "must be <= max_step_s"));
-    }
-    if s.max_steps == 0 {
-        return Err(invalid("max_steps", 0.0, "must be > 0"));
     }
     if s.jacobian_max_age == 0 {
         return Err(invalid("jacobian_max_age", 0.0, "must be >= 1"));

@@ -33,7 +33,7 @@
 
 use nalgebra::Vector3;
 
-use super::body::{BodyError, BodyState, INERTIA_REL_TOL, RigidBody, Wrench};
+use super::body::{BodyError, BodyState, INERTIA_REL_TOL, RigidBody, Wrench, quaternion_rate};
 
 /// A wheelset's inertia must be that of a body of revolution about its
 /// axle: I_xx = I_zz and no products of inertia (each within
@@ -65,11 +65,7 @@ pub fn axle_frame_derivatives(
     let out = &mut out[..BodyState::LEN];
     let w = &state.angular_velocity_rad_s;
     let w_frame = Vector3::new(w.x, 0.0, w.z);
-    // ½ q ⊗ (0, ω_f): scalar −½ q_v·ω_f, vector ½ (q_w ω_f + q_v × ω_f).
-    let q = state.orientation.quaternion();
-    let qv = q.imag();
-    let q_dot_w = -0.5 * qv.dot(&w_frame);
-    let q_dot_v = 0.5 * (q.w * w_frame + qv.cross(&w_frame));
+    let q_dot = quaternion_rate(state, &w_frame);
     let accel = wrench.force_n / body.mass_kg + gravity_m_s2;
     let moment_frame = state
         .orientation
@@ -79,7 +75,7 @@ pub fn axle_frame_derivatives(
     // Diagonal inertia (checked by `check_axisymmetric`).
     let alpha = Vector3::new(rhs.x / j[(0, 0)], rhs.y / j[(1, 1)], rhs.z / j[(2, 2)]);
     out[0..3].copy_from_slice(state.velocity_m_s.as_slice());
-    out[3..7].copy_from_slice(&[q_dot_w, q_dot_v.x, q_dot_v.y, q_dot_v.z]);
+    out[3..7].copy_from_slice(&q_dot);
     out[7..10].copy_from_slice(accel.as_slice());
     out[10..BodyState::LEN].copy_from_slice(alpha.as_slice());
 }

@@ -331,11 +331,7 @@ pub fn derivatives(
 ) {
     let out = &mut out[..BodyState::LEN];
     let w = &state.angular_velocity_rad_s;
-    // ½ q ⊗ (0, ω): scalar −½ q_v·ω, vector ½ (q_w ω + q_v × ω).
-    let q = state.orientation.quaternion();
-    let qv = q.imag();
-    let q_dot_w = -0.5 * qv.dot(w);
-    let q_dot_v = 0.5 * (q.w * w + qv.cross(w));
+    let q_dot = quaternion_rate(state, w);
     let accel = wrench.force_n / body.mass_kg + gravity_m_s2;
     let moment_body = state
         .orientation
@@ -347,9 +343,20 @@ pub fn derivatives(
         None => Vector3::repeat(f64::NAN),
     };
     out[0..3].copy_from_slice(state.velocity_m_s.as_slice());
-    out[3..7].copy_from_slice(&[q_dot_w, q_dot_v.x, q_dot_v.y, q_dot_v.z]);
+    out[3..7].copy_from_slice(&q_dot);
     out[7..10].copy_from_slice(accel.as_slice());
     out[10..BodyState::LEN].copy_from_slice(alpha.as_slice());
+}
+
+/// q̇ = ½ q ⊗ (0, ω) of the state's orientation for an angular velocity
+/// `w` in its axes (rad/s), as [q̇_w, q̇_i, q̇_j, q̇_k]: scalar −½ q_v·ω,
+/// vector ½ (q_w ω + q_v × ω) (module docs).
+pub fn quaternion_rate(state: &BodyState, w: &Vector3<f64>) -> [f64; 4] {
+    let q = state.orientation.quaternion();
+    let qv = q.imag();
+    let q_dot_w = -0.5 * qv.dot(w);
+    let q_dot_v = 0.5 * (q.w * w + qv.cross(w));
+    [q_dot_w, q_dot_v.x, q_dot_v.y, q_dot_v.z]
 }
 
 #[cfg(test)]
