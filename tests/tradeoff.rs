@@ -87,8 +87,8 @@ fn quick_study_on_the_bogie() {
     assert_eq!(csv.lines().count(), 1 + variants.len(), "{csv}");
     assert_eq!(
         variants.len(),
-        6,
-        "reference, four variants, the failing one"
+        7,
+        "reference, five variants, the failing one"
     );
 
     // The reference against itself.
@@ -137,6 +137,12 @@ fn quick_study_on_the_bogie() {
         fine > 0.0 && coarse > 10.0 * fine,
         "coarse {coarse}, fine {fine}"
     );
+    // The stiff integrator at its defaults runs and stays within the 10 µm
+    // its tolerance is set for (docs/reference/08-multibody.md §8.5).
+    let ros = variant(&report, "rosenbrock atol 5e-6");
+    assert_eq!(ros["status"], "ok");
+    let ros_err = num(&ros["errors"], "lateral_max_m");
+    assert!(ros_err > 0.0 && ros_err < 10e-6, "rosenbrock {ros_err} m");
     // The quick look (table contact, 0.5 m table, RK4 1 ms) is the least
     // accurate and the fastest.
     let quick = variant(&report, "quick look");
