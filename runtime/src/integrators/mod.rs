@@ -319,6 +319,37 @@ fn validate_adaptive<E>(
     Ok(())
 }
 
+/// The adaptive methods' guard before a step attempt from t with the
+/// proposed step h (s): the attempt budget, the smallest step (the last
+/// non-finite value, if one caused the shrinking, is the error then), and
+/// the landing on t_end within `stretch`·h. Returns (h_step, t_new).
+#[allow(clippy::too_many_arguments)]
+fn next_attempt<E>(
+    t: f64,
+    h: f64,
+    t_end: f64,
+    attempts: u64,
+    max_steps: u64,
+    min_step_s: f64,
+    stretch: f64,
+    last_non_finite: Option<(f64, usize)>,
+) -> Result<(f64, f64), IntegratorError<E>> {
+    if attempts >= max_steps {
+        return Err(IntegratorError::TooManySteps { t, steps: attempts });
+    }
+    if h < min_step_s || h <= 10.0 * f64::EPSILON * t.abs() || h.is_nan() {
+        return Err(match last_non_finite {
+            Some((t, component)) => IntegratorError::NonFinite { t, component },
+            None => IntegratorError::StepSizeTooSmall { t, step_s: h },
+        });
+    }
+    Ok(if t + stretch * h >= t_end {
+        (t_end - t, t_end)
+    } else {
+        (h, t + h)
+    })
+}
+
 /// Index of the first NaN or infinite entry.
 fn first_non_finite(v: &[f64]) -> Option<usize> {
     v.iter().position(|x| !x.is_finite())

@@ -87,7 +87,7 @@ use super::jacobian::{BlockJacobian, JacobianBlocks};
 use super::rk4::hermite;
 use super::{
     Control, IntegrationStats, IntegratorError, Observer, OdeSystem, OutputCursor, OutputGrid,
-    StepRange, eval, first_non_finite, invalid, validate_adaptive,
+    StepRange, eval, first_non_finite, invalid, next_attempt, validate_adaptive,
 };
 
 /// Which Jacobian approximation the method uses (module docs).
@@ -440,24 +440,17 @@ pub(super) fn integrate_rosenbrock<S_: OdeSystem>(
     }
 
     while !stopped && t < t_end {
-        if steps + rejected >= settings.max_steps {
-            return Err(IntegratorError::TooManySteps {
-                t,
-                steps: steps + rejected,
-            });
-        }
         h = h.min(settings.max_step_s);
-        if h < settings.min_step_s || h <= 10.0 * f64::EPSILON * t.abs() || h.is_nan() {
-            return Err(match last_non_finite {
-                Some((t, component)) => IntegratorError::NonFinite { t, component },
-                None => IntegratorError::StepSizeTooSmall { t, step_s: h },
-            });
-        }
-        let (h_step, t_new) = if t + LAST_STEP_STRETCH * h >= t_end {
-            (t_end - t, t_end)
-        } else {
-            (h, t + h)
-        };
+        let (h_step, t_new) = next_attempt(
+            t,
+            h,
+            t_end,
+            steps + rejected,
+            settings.max_steps,
+            settings.min_step_s,
+            LAST_STEP_STRETCH,
+            last_non_finite,
+        )?;
         let outcome = attempt(
             settings,
             &tab,
