@@ -296,6 +296,10 @@ fn reader_rejects_other_versions_and_truncated_files() {
             .unwrap()
             .write_scalar(&99u32)
             .unwrap();
+        // Closed explicitly (H5Fclose, which drops the file's lock) before
+        // `sim probe` opens it: once, on CI, the probe found the file still
+        // locked (errno 11) after the handle's drop.
+        f.close().unwrap();
     }
     let o = run(sim().arg("probe").arg(&other).args(["--s", "1"]));
     assert!(!o.status.success());

@@ -104,7 +104,19 @@ pub enum PreloadError {
     NonFinite { element: String, what: &'static str },
     #[error("body '{body}': mass {mass_kg} kg and its centre of gravity must be finite, mass >= 0")]
     InvalidBody { body: String, mass_kg: f64 },
+    #[error(
+        "the stiffness matrix or the weights overflow the floating-point range: a stiffness, mass or attachment point is implausibly large (check the unit)"
+    )]
+    Overflow,
+    #[error(
+        "the stiffness matrix's singular value decomposition did not converge in {SVD_MAX_ITERATIONS} iterations"
+    )]
+    NotConverged,
 }
+
+/// Bound on the SVD's iterations: a 6 n × 6 n stiffness matrix converges
+/// in a few dozen sweeps; a matrix that needs more is degenerate.
+pub const SVD_MAX_ITERATIONS: usize = 10_000;
 
 /// Largest residual accepted, relative to a body's weight (force) and to
 /// its weight × 1 m (moment), plus 1e-6 N or N·m: rounding in the solve is
@@ -193,7 +205,15 @@ pub fn solve_static_preloads(
     let u = if n == 0 {
         DVector::zeros(0)
     } else {
-        let svd = k_mat.svd(true, true);
+        // Finite inputs can still overflow in the products (a stiffness of
+        // 1e308 N/m times a lever arm); an SVD of a non-finite matrix never
+        // converges, so it is refused before, and the iterations are bounded.
+        if !k_mat.iter().chain(f.iter()).all(|v| v.is_finite()) {
+            return Err(PreloadError::Overflow);
+        }
+        let svd = k_mat
+            .try_svd(true, true, f64::EPSILON, SVD_MAX_ITERATIONS)
+            .ok_or(PreloadError::NotConverged)?;
         let eps = 1e-12 * svd.singular_values.max();
         svd.solve(&f, eps).unwrap_or_else(|_| DVector::zeros(n))
     };
@@ -286,6 +306,20 @@ mod tests {
     /// u₁ = −(m₁ + m₂) g / (k₁ + k₃), so k₁ pushes it up with
     /// k₁/(k₁+k₃) (m₁+m₂) g and k₃ pulls it up with k₃/(k₁+k₃) (m₁+m₂) g.
     /// Elements: a = upper body, b = lower (force on b as preload).
+    /// Regression (the vehicle-file fuzz test hung here): finite inputs
+    /// whose products overflow made an SVD that never converged; they are
+    /// refused with "check the unit".
+    #[test]
+    fn overflowing_stiffness_is_refused_not_looped_on() {
+        let bodies = [body("frame", 1000.0, 0.5)];
+        for (k, z) in [(1e308, 10.0), (1e200, 1e200)] {
+            let elements = [spring("huge", Some(0), None, z, [k, k, k])];
+            let e = solve_static_preloads(&bodies, &elements, G).expect_err("refused");
+            assert!(matches!(e, PreloadError::Overflow), "{e}");
+            assert!(e.to_string().contains("check the unit"), "{e}");
+        }
+    }
+
     #[test]
     fn two_masses_share_by_stiffness() {
         let (m1, m2, k1, k2, k3) = (1000.0, 500.0, 3e6, 1e6, 1e6);
