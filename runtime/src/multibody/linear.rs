@@ -333,7 +333,15 @@ pub fn linearise(
         let fm = reduced_rhs(system, &base, &layout, &xp)?;
         jac.set_column(j, &((fp - fm) / (2.0 * h)));
     }
-    let modes = modes(&jac, &layout);
+    // An eigen-decomposition of a non-finite matrix never converges.
+    if let Some(v) = jac.iter().find(|v| !v.is_finite()) {
+        return Err(DynamicsError::Setting {
+            setting: "linearised system matrix entry",
+            value: *v,
+            rule: "the finite-difference Jacobian must be finite: a force overflows near the steady state (check the units of the vehicle's elements)",
+        });
+    }
+    let modes = modes(&jac, &layout)?;
     Ok(Linearisation {
         states: layout.names,
         jacobian: jac,
@@ -383,9 +391,20 @@ fn balance(a: &DMatrix<f64>) -> (DMatrix<f64>, Vec<f64>) {
     (m, d)
 }
 
-fn modes(jac: &DMatrix<f64>, layout: &Layout) -> Vec<Mode> {
+/// Bound on the real Schur decomposition's QR sweeps: a few per
+/// eigenvalue converge; more means a degenerate matrix.
+const SCHUR_MAX_ITERATIONS: usize = 100_000;
+
+fn modes(jac: &DMatrix<f64>, layout: &Layout) -> Result<Vec<Mode>, DynamicsError> {
     let (balanced, _) = balance(jac);
-    let eig = balanced.clone().complex_eigenvalues();
+    let eig =
+        nalgebra::linalg::Schur::try_new(balanced.clone(), f64::EPSILON, SCHUR_MAX_ITERATIONS)
+            .ok_or(DynamicsError::Setting {
+                setting: "linearised system matrix size",
+                value: jac.nrows() as f64,
+                rule: "the eigenvalues did not converge within the iteration bound",
+            })?
+            .complex_eigenvalues();
     let n = jac.nrows();
     let lateral: Vec<bool> = layout
         .states
@@ -435,7 +454,7 @@ fn modes(jac: &DMatrix<f64>, layout: &Layout) -> Vec<Mode> {
         })
         .collect();
     out.sort_by(|a, b| b.eigenvalue.re.total_cmp(&a.eigenvalue.re));
-    out
+    Ok(out)
 }
 
 #[cfg(test)]
