@@ -106,19 +106,44 @@ impl DerefMut for Watched<'_, '_> {
     }
 }
 
+impl Watched<'_, '_> {
+    /// Counts the contacts of the last evaluation that used the Hertz
+    /// floor; a wheelset whose contacts were reused (a Jacobian column)
+    /// was not evaluated.
+    fn count_hertz_floor(&mut self) {
+        let reused = self.system.contacts_reused();
+        self.hertz_floor_evaluations += self
+            .system
+            .snapshots()
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| !reused.get(*i).copied().unwrap_or(false))
+            .flat_map(|(_, s)| s.forces.iter().flatten().flatten())
+            .filter(|f| f.hertz_fallback)
+            .count() as u64;
+    }
+}
+
 impl OdeSystem for Watched<'_, '_> {
     type Error = DynamicsError;
 
     fn rhs(&mut self, t: f64, y: &[f64], dydt: &mut [f64]) -> Result<(), DynamicsError> {
         self.note(t, y);
         self.system.rhs(t, y, dydt)?;
-        self.hertz_floor_evaluations += self
-            .system
-            .snapshots()
-            .iter()
-            .flat_map(|s| s.forces.iter().flatten().flatten())
-            .filter(|f| f.hertz_fallback)
-            .count() as u64;
+        self.count_hertz_floor();
+        Ok(())
+    }
+
+    fn rhs_column(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        changed: usize,
+        dydt: &mut [f64],
+    ) -> Result<(), DynamicsError> {
+        self.note(t, y);
+        self.system.rhs_column(t, y, changed, dydt)?;
+        self.count_hertz_floor();
         Ok(())
     }
 

@@ -112,6 +112,24 @@ pub trait OdeSystem {
         JacobianBlocks::dense(n)
     }
 
+    /// dy/dt at (t, y) where y differs from the state of the last
+    /// [`Self::accept`] call in component `changed` only: one column of a
+    /// finite-difference Jacobian ([`jacobian`] module docs). A system may
+    /// reuse what that component cannot change (the vehicle: the contacts
+    /// of the other wheelsets), and must give the same derivative as
+    /// [`Self::rhs`] up to its own convergence tolerances. Default:
+    /// [`Self::rhs`].
+    fn rhs_column(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        changed: usize,
+        dydt: &mut [f64],
+    ) -> Result<(), Self::Error> {
+        let _ = changed;
+        self.rhs(t, y, dydt)
+    }
+
     /// Called right after [`Self::accept`]: whether the system's structure
     /// changed since the previous call (a contact opened or closed, a flange
     /// came into contact), so that the stiff integrator renews its Jacobian
@@ -364,6 +382,22 @@ fn eval<S: OdeSystem>(
     evaluations: &mut u64,
 ) -> Result<Option<usize>, IntegratorError<S::Error>> {
     system.rhs(t, y, dydt).map_err(IntegratorError::System)?;
+    *evaluations += 1;
+    Ok(first_non_finite(dydt))
+}
+
+/// [`eval`] of one Jacobian column ([`OdeSystem::rhs_column`]).
+fn eval_column<S: OdeSystem>(
+    system: &mut S,
+    t: f64,
+    y: &[f64],
+    changed: usize,
+    dydt: &mut [f64],
+    evaluations: &mut u64,
+) -> Result<Option<usize>, IntegratorError<S::Error>> {
+    system
+        .rhs_column(t, y, changed, dydt)
+        .map_err(IntegratorError::System)?;
     *evaluations += 1;
     Ok(first_non_finite(dydt))
 }

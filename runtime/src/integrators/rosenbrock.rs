@@ -68,7 +68,8 @@
 //!
 //! err = √(1/n Σ (e_i / sk_i)²), sk_i = atol + rtol·max(|y_i|, |y⁺_i|); the
 //! step is accepted when err ≤ 1 and the next one is h·clamp(0.9·err^(−1/3),
-//! 0.2, 6) (the error estimate is O(h³)); after a rejection the factor is
+//! 0.2, 6) (the error estimate is O(h³)), kept at h when that factor lies in
+//! [1, 1.2] so that W's factors are reused; after a rejection the factor is
 //! at most 1 and the next accepted step may not grow. A stage or a new
 //! state with a non-finite entry, or a singular W, rejects the step with
 //! factor 0.2. Steps are capped by `max_step_s`, stretched or shortened to
@@ -154,6 +155,12 @@ impl Default for Rosenbrock {
 const SAFETY: f64 = 0.9;
 const FACTOR_MIN: f64 = 0.2;
 const FACTOR_MAX: f64 = 6.0;
+/// An accepted step whose proposed growth lies in [1, `KEEP_STEP_MAX`]
+/// keeps its size, so that W = I/(hγ) − J and its LU factors are reused
+/// (the window of Hairer & Wanner's RADAU5 code, `quot1` = 1, `quot2` =
+/// 1.2; *Solving ODEs II*, §IV.8): an LU costs as much as several
+/// stages' solves, a 20 % longer step saves less.
+const KEEP_STEP_MAX: f64 = 1.2;
 /// A last step within this factor of t_end is stretched to land on it.
 const LAST_STEP_STRETCH: f64 = 1.01;
 
@@ -490,6 +497,9 @@ pub(super) fn integrate_rosenbrock<S_: OdeSystem>(
                 let changed = system.structure_changed();
                 if last_rejected || changed {
                     fac = fac.min(1.0);
+                }
+                if (1.0..=KEEP_STEP_MAX).contains(&fac) {
+                    fac = 1.0;
                 }
                 if changed {
                     age = settings.jacobian_max_age;

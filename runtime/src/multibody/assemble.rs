@@ -290,6 +290,10 @@ impl<'a> VehicleSystem<'a> {
             track_end_reached: false,
             contact_pattern: Vec::new(),
             accepted: Default::default(),
+            wheelset_parts: Vec::new(),
+            accepted_parts: Vec::new(),
+            reuse_except: None,
+            contacts_reused: Vec::new(),
             settings,
         };
         Ok((system, y0))

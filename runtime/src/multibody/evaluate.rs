@@ -29,7 +29,7 @@ use super::formulation::{
     ElementAxes, GyroscopicMoments, RollMoment, axle_frame_euler_correction, roll_arm_correction,
 };
 use super::settings::BRAKE_STICK_SPEED_M_S;
-use super::system::{REFERENCE_DS_M, VehicleSystem};
+use super::system::{REFERENCE_DS_M, VehicleSystem, WheelsetPart};
 use super::track_motion::{frame_rotation, project_s, reference_anchor, relative_to};
 use crate::contact::WheelsetPose;
 use crate::forces::normal::ContactMemory;
@@ -49,7 +49,22 @@ impl VehicleSystem<'_> {
         let c = &track.centerline;
         let n_ws = vehicle.wheelsets.len();
         self.formulation_power_w = 0.0;
+        self.contacts_reused.resize(n_ws, false);
+        if self.wheelset_parts.len() != n_ws {
+            self.wheelset_parts.clear();
+        }
         for (i, w) in vehicle.wheelsets.iter().enumerate() {
+            // A Jacobian column (`rhs_column`): this wheelset is at the
+            // accepted state, its contacts are that state's.
+            let reuse = self.reuse_except.is_some_and(|k| k != Some(i));
+            self.contacts_reused[i] = reuse;
+            if reuse {
+                let part = self.accepted_parts[i];
+                self.states[i] = part.state;
+                self.anchors[i] = part.anchor;
+                self.wrenches[i] = part.wrench;
+                continue;
+            }
             let st = BodyState::read_from(&y[BodyState::slot(i)]);
             let s = project_s(c, &st.position_m, self.s_guess[i]).map_err(|source| {
                 DynamicsError::Track {
@@ -168,6 +183,15 @@ impl VehicleSystem<'_> {
             };
             self.wrenches[i] = wrench;
             self.states[i] = st;
+            let part = WheelsetPart {
+                state: st,
+                anchor: self.anchors[i],
+                wrench,
+            };
+            match self.wheelset_parts.get_mut(i) {
+                Some(p) => *p = part,
+                None => self.wheelset_parts.push(part),
+            }
         }
         for (j, _) in vehicle.bodies.iter().enumerate() {
             let k = n_ws + j;

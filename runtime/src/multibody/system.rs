@@ -134,6 +134,28 @@ pub struct VehicleSystem<'a> {
     /// The last accepted state (t s, y), and whether the last evaluation
     /// is still that state's ([`VehicleSystem::evaluated_at`]).
     pub(super) accepted: AcceptedState,
+    /// Per wheelset, its state, anchor and contact wrench at the last
+    /// evaluation that computed its contacts, and at the last accepted
+    /// state (reused by Jacobian columns, [`OdeSystem::rhs_column`]).
+    pub(super) wheelset_parts: Vec<WheelsetPart>,
+    pub(super) accepted_parts: Vec<WheelsetPart>,
+    /// The wheelset whose contacts the current evaluation computes when it
+    /// reuses the others' (a Jacobian column), `Some(None)` when it reuses
+    /// every wheelset's; `None` for a full evaluation.
+    pub(super) reuse_except: Option<Option<usize>>,
+    /// Per wheelset, whether the last evaluation reused its contacts from
+    /// the accepted state instead of computing them.
+    pub(super) contacts_reused: Vec<bool>,
+}
+
+/// What a wheelset's contacts give the rest of an evaluation: its state,
+/// its axle-frame anchor and the wrench of its contacts, axle torque and
+/// formulation moments (before the elements').
+#[derive(Debug, Clone, Copy)]
+pub(super) struct WheelsetPart {
+    pub(super) state: BodyState,
+    pub(super) anchor: Anchor,
+    pub(super) wrench: Wrench,
 }
 
 /// The last accepted state and whether nothing was evaluated since.
@@ -193,6 +215,13 @@ impl<'a> VehicleSystem<'a> {
     /// The contact solvers (statistics: solves, iterations, cold starts).
     pub fn solvers(&self) -> &[ContactSolver] {
         &self.solvers
+    }
+
+    /// Per wheelset, whether the last evaluation reused its contacts
+    /// from the accepted state (a Jacobian column) instead of computing
+    /// them: its snapshot is then not this evaluation's.
+    pub fn contacts_reused(&self) -> &[bool] {
+        &self.contacts_reused
     }
 
     /// The per-wheelset results of the last evaluation.
@@ -330,8 +359,10 @@ impl OdeSystem for VehicleSystem<'_> {
 
     fn accept(&mut self, t: f64, y: &[f64]) -> Result<Control, DynamicsError> {
         // The last rhs call was at this state: its hysteresis memory is the
-        // one to keep.
+        // one to keep, and its wheelsets' contacts are the ones Jacobian
+        // columns at this state reuse.
         self.memory.clone_from(&self.pending);
+        self.accepted_parts.clone_from(&self.wheelset_parts);
         self.accepted.t_s = t;
         self.accepted.y.clear();
         self.accepted.y.extend_from_slice(y);
@@ -381,6 +412,37 @@ impl OdeSystem for VehicleSystem<'_> {
         } else {
             Control::Continue
         })
+    }
+
+    /// A Jacobian column at the accepted state: the wheelsets whose state
+    /// is the accepted one keep their contacts (a contact depends on its
+    /// own wheelset's state and on time only), so only the perturbed
+    /// wheelset's are solved; a perturbed free body or internal state
+    /// solves none. Bit for bit the wrench of the accepted state's
+    /// evaluation, which a new solve would reproduce to the contact
+    /// solver's tolerance.
+    fn rhs_column(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        changed: usize,
+        dydt: &mut [f64],
+    ) -> Result<(), DynamicsError> {
+        let n_ws = self.vehicle.wheelsets.len();
+        let at_accepted = t == self.accepted.t_s
+            && y.len() == self.accepted.y.len()
+            && self.accepted_parts.len() == n_ws
+            && (0..n_ws).all(|i| {
+                let slot = BodyState::slot(i);
+                slot.contains(&changed) || y[slot.clone()] == self.accepted.y[slot]
+            });
+        if at_accepted {
+            let perturbed = (0..n_ws).find(|&i| BodyState::slot(i).contains(&changed));
+            self.reuse_except = Some(perturbed);
+        }
+        let result = self.rhs(t, y, dydt);
+        self.reuse_except = None;
+        result
     }
 
     /// Which contact candidates touch, and in which zone, at the accepted

@@ -1,0 +1,78 @@
+//! A Jacobian column of the vehicle (`OdeSystem::rhs_column`) reuses the
+//! contacts of the wheelsets it does not perturb, taken from the accepted
+//! state: on every shipped vehicle, off centre (3 mm, 2 mrad), each column's
+//! derivative must match a full evaluation at the same state to the contact
+//! solver's convergence, and exactly the unperturbed wheelsets are reused.
+
+use runtime::fixtures::vehicles::ShippedVehicle;
+use runtime::integrators::OdeSystem;
+use runtime::multibody::body::BodyState;
+use runtime::multibody::{InitialConditions, VehicleSystem};
+
+/// Largest |f_column − f_full| allowed, relative to 1 + |f_full| in the
+/// state's units per second: the unperturbed wheelsets' contacts differ
+/// only by the contact Newton's convergence (a warm start from another
+/// state), far below the finite-difference increment's effect (1e-7
+/// relative).
+const TOLERANCE: f64 = 1e-7;
+
+#[test]
+fn columns_reuse_the_other_wheelsets_contacts_and_match_a_full_evaluation() {
+    for which in ShippedVehicle::ALL {
+        let (vehicle, track) = which.build().expect("the shipped profiles");
+        let (mut system, y0) = VehicleSystem::assemble(
+            &track,
+            &vehicle,
+            which.settings(20.0),
+            InitialConditions {
+                lateral_m: 0.003,
+                yaw_rad: 0.002,
+            },
+        )
+        .expect("assembles");
+        let n = y0.len();
+        let mut f0 = vec![0.0; n];
+        system.rhs(0.0, &y0, &mut f0).expect("evaluates");
+        system.accept(0.0, &y0).expect("accepts");
+        let n_ws = vehicle.wheelsets.len();
+        let (mut f_col, mut f_full) = (vec![0.0; n], vec![0.0; n]);
+        for j in 0..n {
+            let mut y = y0.clone();
+            y[j] += 1e-7 * y[j].abs().max(1.0);
+            system
+                .rhs_column(0.0, &y, j, &mut f_col)
+                .expect("evaluates");
+            let owner = (0..n_ws).find(|&i| BodyState::slot(i).contains(&j));
+            let reused: Vec<bool> = (0..n_ws).map(|i| Some(i) != owner).collect();
+            assert_eq!(
+                system.contacts_reused(),
+                reused.as_slice(),
+                "{}: column {j}",
+                which.name()
+            );
+            system.rhs(0.0, &y, &mut f_full).expect("evaluates");
+            assert!(system.contacts_reused().iter().all(|r| !r));
+            for (k, (c, f)) in f_col.iter().zip(&f_full).enumerate() {
+                let d = (c - f).abs() / (1.0 + f.abs());
+                assert!(
+                    d <= TOLERANCE,
+                    "{}: column {j}, row {k}: {c} against {f}",
+                    which.name()
+                );
+            }
+        }
+        // Away from the accepted state (the first and the last wheelset
+        // moved), nothing is reused.
+        let mut y = y0.clone();
+        y[0] += 1e-3;
+        y[BodyState::slot(n_ws - 1).start + 1] += 1e-6;
+        system
+            .rhs_column(0.0, &y, 0, &mut f_col)
+            .expect("evaluates");
+        assert!(
+            system.contacts_reused().iter().all(|r| !r),
+            "{}: two components changed, yet contacts were reused",
+            which.name()
+        );
+    }
+}
