@@ -1,11 +1,28 @@
-//! The process's peak memory, for the run summary: the high-water mark of
-//! its resident set (`VmHWM` in `/proc/self/status`, Linux; see proc(5)).
-//! `None` where the system does not report it.
+//! The process's peak memory and CPU time, for the run summary: the
+//! high-water mark of its resident set (`VmHWM` in `/proc/self/status`,
+//! Linux; see proc(5)) and its user plus system time (getrusage(2),
+//! `RUSAGE_SELF`: every thread). `None` where the system does not report
+//! them.
 
 /// Peak resident memory of this process so far (MiB).
 pub fn peak_resident_mib() -> Option<f64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
     parse_vm_hwm_kib(&status).map(|kib| kib / 1024.0)
+}
+
+/// CPU time of this process so far, user plus system, every thread (s).
+pub fn process_cpu_time_s() -> Option<f64> {
+    let mut usage = std::mem::MaybeUninit::<libc::rusage>::zeroed();
+    // SAFETY: getrusage writes a `rusage` into the pointer it is given, and
+    // `usage` is one, zero-initialised; it is read only on success.
+    let rc = unsafe { libc::getrusage(libc::RUSAGE_SELF, usage.as_mut_ptr()) };
+    if rc != 0 {
+        return None;
+    }
+    // SAFETY: initialised (zeroed, then filled by a successful call).
+    let usage = unsafe { usage.assume_init() };
+    let seconds = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
+    Some(seconds(usage.ru_utime) + seconds(usage.ru_stime))
 }
 
 /// The `VmHWM:  1234 kB` line of a `/proc/<pid>/status` text (kB are KiB

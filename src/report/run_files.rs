@@ -68,6 +68,7 @@ fn finish_run(
         outcome.summary.plots.push(curving.display().to_string());
     }
     outcome.summary.peak_memory_mib = super::memory::peak_resident_mib();
+    outcome.summary.cpu_time_s = super::memory::process_cpu_time_s();
     outcome.into_result(&output.display().to_string())
 }
 

@@ -6,7 +6,7 @@ impl RunSummary {
     /// Human-readable summary.
     pub fn to_text(&self) -> String {
         let mut s = format!(
-            "{}\n  {} → {}\n  creep law {}, contact {}, integrator {}, {} m/s\n  simulated {:.3} s in {:.3} s wall (real-time factor {:.2}; setup {:.2} s)\n  {} steps ({} rejected), {} evaluations, {} contact solves ({:.2} Newton iterations each, {} cold starts)\n",
+            "{}\n  {} → {}\n  creep law {}, contact {}, integrator {}, {} m/s\n  simulated {:.3} s in {:.3} s wall (real-time factor {:.2}; setup {:.2} s)\n  {} steps ({} rejected), {} evaluations{}, {} contact solves ({:.2} Newton iterations each, {} cold starts)\n",
             self.title,
             self.scene,
             self.output,
@@ -21,6 +21,11 @@ impl RunSummary {
             self.steps,
             self.rejected_steps,
             self.rhs_evaluations,
+            if self.jacobians > 0 {
+                format!(" ({} Jacobians)", self.jacobians)
+            } else {
+                String::new()
+            },
             self.contact_solves,
             self.mean_newton_iterations,
             self.cold_starts
@@ -37,6 +42,9 @@ impl RunSummary {
             self.peak_memory_mib
                 .map_or(String::new(), |m| format!("; peak memory {m:.0} MiB")),
         );
+        if let Some(c) = self.cpu_time_s {
+            s += &format!("  process CPU time {c:.3} s (setup, run, results file and plots)\n");
+        }
         if self.summary_stride > 1 {
             s += &format!(
                 "  the figures below and the plots are from every {}-th of the {} samples (memory bound; the results file holds them all)\n",

@@ -423,9 +423,11 @@ fn run_session(
         steps: stats.map_or(counters.accepted, |s| s.steps),
         rejected_steps: stats.map_or(0, |s| s.rejected),
         rhs_evaluations: counters.evaluations,
+        jacobians: stats.map_or(0, |s| s.jacobian_evaluations),
         output_samples,
         summary_stride,
         peak_memory_mib: None,
+        cpu_time_s: None,
         contact_solves: stats_solvers.solves,
         mean_newton_iterations: if stats_solvers.solves > 0 {
             stats_solvers.iterations as f64 / stats_solvers.solves as f64

@@ -99,6 +99,9 @@ pub struct RunSummary {
     pub steps: u64,
     pub rejected_steps: u64,
     pub rhs_evaluations: u64,
+    /// Finite-difference Jacobians of the stiff integrator (`rosenbrock`;
+    /// 0 for the explicit methods), part of `rhs_evaluations`.
+    pub jacobians: u64,
     /// Samples in the results (the file holds them all).
     pub output_samples: usize,
     /// The summary's figures and the plots come from every
@@ -109,6 +112,10 @@ pub struct RunSummary {
     /// Peak resident memory of the process when the outputs were written
     /// (MiB; Linux `VmHWM`), `None` where the system does not say.
     pub peak_memory_mib: Option<f64>,
+    /// CPU time of the process, user plus system, when the outputs were
+    /// written (s; `getrusage`, every thread): setup, run, results file
+    /// and plots. `None` where the system does not say.
+    pub cpu_time_s: Option<f64>,
     pub contact_solves: u64,
     pub mean_newton_iterations: f64,
     pub cold_starts: u64,

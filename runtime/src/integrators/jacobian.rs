@@ -40,6 +40,7 @@
 
 use std::ops::Range;
 
+use super::kinematic::{KinematicBlock, KinematicReduction};
 use super::{IntegratorError, OdeSystem, eval, eval_column};
 
 /// Relative finite-difference increment of the Jacobian's columns
@@ -58,6 +59,9 @@ pub struct JacobianBlocks {
     /// The blocks of a group must not act directly on each other's
     /// derivatives.
     pub groups: Vec<Vec<usize>>,
+    /// Kinematic rows eliminated from the linear solves ([`super::kinematic`]),
+    /// only with one dense block over the whole state; empty: none.
+    pub kinematics: Vec<KinematicBlock>,
 }
 
 impl JacobianBlocks {
@@ -68,6 +72,16 @@ impl JacobianBlocks {
         Self {
             blocks: vec![0..n],
             groups: vec![vec![0]],
+            kinematics: Vec::new(),
+        }
+    }
+
+    /// One dense block with the kinematic rows `kinematics` eliminated
+    /// from the solves ([`super::kinematic`]).
+    pub fn dense_kinematic(n: usize, kinematics: Vec<KinematicBlock>) -> Self {
+        Self {
+            kinematics,
+            ..Self::dense(n)
         }
     }
 
@@ -98,6 +112,12 @@ impl JacobianBlocks {
         if seen.iter().any(|&s| s != 1) {
             return Err("every block must be in exactly one group");
         }
+        if !self.kinematics.is_empty() {
+            if self.blocks.len() != 1 || self.blocks[0] != (0..n) {
+                return Err("kinematic rows need one dense block over the whole state");
+            }
+            KinematicReduction::check(&self.kinematics, n)?;
+        }
         Ok(())
     }
 
@@ -125,6 +145,9 @@ pub(super) struct BlockJacobian {
     rhs_scratch: Vec<f64>,
     /// State indices outside every block.
     outside: Vec<usize>,
+    /// The solves with the kinematic rows eliminated, if declared.
+    reduction: Option<KinematicReduction>,
+    n: usize,
 }
 
 impl BlockJacobian {
@@ -134,7 +157,11 @@ impl BlockJacobian {
         let outside = (0..n)
             .filter(|i| !layout.blocks.iter().any(|r| r.contains(i)))
             .collect();
+        let reduction =
+            (!layout.kinematics.is_empty()).then(|| KinematicReduction::new(&layout.kinematics, n));
         Self {
+            reduction,
+            n,
             outside,
             jac: sizes.iter().map(|&m| vec![0.0; m * m]).collect(),
             lu: sizes.iter().map(|&m| vec![0.0; m * m]).collect(),
@@ -217,6 +244,11 @@ impl BlockJacobian {
         if self.factored_for == inv_h_gamma {
             return true;
         }
+        if let Some(red) = &mut self.reduction {
+            let ok = red.factor(&self.jac[0], self.n, inv_h_gamma);
+            self.factored_for = if ok { inv_h_gamma } else { 0.0 };
+            return ok;
+        }
         for b in 0..self.layout.blocks.len() {
             let m = self.layout.blocks[b].len();
             let lu = &mut self.lu[b];
@@ -237,6 +269,10 @@ impl BlockJacobian {
 
     /// Solves W x = v in place (after [`Self::factor`] with `inv_h_gamma`).
     pub(super) fn solve(&mut self, inv_h_gamma: f64, v: &mut [f64]) {
+        if let Some(red) = &mut self.reduction {
+            red.solve(inv_h_gamma, v);
+            return;
+        }
         let h_gamma = 1.0 / inv_h_gamma;
         // Rows outside the blocks: W = I/(hγ).
         for &i in &self.outside {
@@ -264,7 +300,7 @@ fn fd_step(y: f64) -> f64 {
 /// Loan Alg. 3.4.1): L (unit, below the diagonal) and U overwrite `a`,
 /// `piv[k]` is the row swapped with row k. False when a pivot is zero or
 /// not finite.
-fn lu_in_place(a: &mut [f64], m: usize, piv: &mut [usize]) -> bool {
+pub(super) fn lu_in_place(a: &mut [f64], m: usize, piv: &mut [usize]) -> bool {
     for k in 0..m {
         let mut p = k;
         let mut best = a[k * m + k].abs();
@@ -304,7 +340,7 @@ fn lu_in_place(a: &mut [f64], m: usize, piv: &mut [usize]) -> bool {
 /// Σ a_i b_i with four partial sums, so that the compiler may use vector
 /// instructions (the order of the additions is fixed, the result
 /// deterministic).
-fn dot(a: &[f64], b: &[f64]) -> f64 {
+pub(super) fn dot(a: &[f64], b: &[f64]) -> f64 {
     let n = a.len().min(b.len());
     let (a, b) = (&a[..n], &b[..n]);
     let mut acc = [0.0; 4];
@@ -322,7 +358,7 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 }
 
 /// Solves (LU) x = P b in place with the factors of [`lu_in_place`].
-fn lu_solve(lu: &[f64], m: usize, piv: &[usize], x: &mut [f64]) {
+pub(super) fn lu_solve(lu: &[f64], m: usize, piv: &[usize], x: &mut [f64]) {
     for (k, &p) in piv.iter().enumerate().take(m) {
         x.swap(k, p);
     }
@@ -403,11 +439,13 @@ mod tests {
         let overlap = JacobianBlocks {
             blocks: vec![0..3, 2..4],
             groups: vec![vec![0], vec![1]],
+            kinematics: Vec::new(),
         };
         assert_eq!(overlap.check(4), Err("the blocks must be disjoint"));
         let twice = JacobianBlocks {
             blocks: vec![0..2, 2..4],
             groups: vec![vec![0, 1], vec![1]],
+            kinematics: Vec::new(),
         };
         assert_eq!(
             twice.check(4),
@@ -417,11 +455,13 @@ mod tests {
         let outside = JacobianBlocks {
             blocks: vec![0..5],
             groups: vec![vec![0]],
+            kinematics: Vec::new(),
         };
         assert!(outside.check(4).is_err());
         let grouped = JacobianBlocks {
             blocks: vec![0..3, 3..5, 6..7],
             groups: vec![vec![0, 1], vec![2]],
+            kinematics: Vec::new(),
         };
         assert_eq!(grouped.check(8), Ok(()));
         assert_eq!(grouped.evaluations(), 3 + 1);

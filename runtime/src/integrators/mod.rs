@@ -67,11 +67,13 @@
 
 pub mod dopri5;
 pub mod jacobian;
+pub mod kinematic;
 pub mod rk4;
 pub mod rosenbrock;
 
 pub use dopri5::Dopri5;
 pub use jacobian::JacobianBlocks;
+pub use kinematic::KinematicBlock;
 pub use rk4::Rk4;
 pub use rosenbrock::{JacobianApprox, Rosenbrock};
 

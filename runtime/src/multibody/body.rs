@@ -181,6 +181,11 @@ impl BodyState {
     /// Number of `f64`s a body occupies in a flat state vector.
     pub const LEN: usize = 13;
 
+    /// Index of the velocity within a body's slot: position (3) and
+    /// orientation quaternion (4) come before, velocity (3) and angular
+    /// velocity (3) from here.
+    pub const VELOCITY_OFFSET: usize = 7;
+
     /// The indices of body `k`'s state in a flat state vector holding the
     /// states of several bodies one after another ([`Self::LEN`] each).
     pub fn slot(k: usize) -> std::ops::Range<usize> {

@@ -22,7 +22,7 @@ use crate::contact::{ContactSolver, WheelsetContacts};
 use crate::forces::normal::ContactMemory;
 use crate::geometry::profile::{MAX_SEGMENTS, Zone};
 use crate::geometry::track::{Side, TrackTables};
-use crate::integrators::{Control, OdeSystem};
+use crate::integrators::{Control, JacobianBlocks, KinematicBlock, OdeSystem};
 use crate::multibody::axle_frame::axle_frame_derivatives;
 use crate::multibody::body::{BodyState, Wrench, derivatives};
 use crate::multibody::contact_force::ContactForce;
@@ -412,6 +412,25 @@ impl OdeSystem for VehicleSystem<'_> {
         } else {
             Control::Continue
         })
+    }
+
+    /// One dense block (the primary suspensions couple wheelsets and
+    /// frames as stiffly as the contacts; docs/reference/08-multibody.md
+    /// §8.5), with every body's position and orientation rows eliminated
+    /// from the solves: their derivative is the body's own velocity and
+    /// angular velocity ([`crate::integrators::kinematic`]).
+    fn jacobian_blocks(&self, n: usize) -> JacobianBlocks {
+        let bodies = self.vehicle.wheelsets.len() + self.vehicle.bodies.len();
+        let kinematics = (0..bodies)
+            .map(|k| {
+                let slot = BodyState::slot(k);
+                KinematicBlock {
+                    positions: slot.start..slot.start + BodyState::VELOCITY_OFFSET,
+                    velocities: slot.start + BodyState::VELOCITY_OFFSET..slot.end,
+                }
+            })
+            .collect();
+        JacobianBlocks::dense_kinematic(n, kinematics)
     }
 
     /// A Jacobian column at the accepted state: the wheelsets whose state
