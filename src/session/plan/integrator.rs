@@ -8,20 +8,20 @@
 //! `docs/guide/speed-accuracy-tradeoff.md`, "The integrator"):
 //!
 //! - Rosenbrock at atol [`SUSPENDED_ATOL`] = 5e-6 (rtol 1e-9, largest step
-//!   10 ms: the integrator's defaults): the ML95-like bogie 9.8 µm at 20 m/s
-//!   and 8.2 µm at 36 m/s, the Cooperrider car 4.5 µm at 40 m/s, 4–5× faster
-//!   than RK4 at 0.5 ms.
+//!   10 ms: the integrator's defaults): the ML95-like bogie 8.8 µm at 20 m/s
+//!   and 7.2 µm at 36 m/s, the Cooperrider car 4.1 µm at 40 m/s, 3–4× less
+//!   CPU than RK4 at 0.5 ms (docs/reference/08-multibody.md §8.5).
 //! - atol [`FREE_FLANGE_ATOL`] = 2e-7 when a wheelset without any suspension
 //!   element (a free wheelset) may reach its flanges (flange search `auto`
 //!   or `on`): the flange-limited free ML95-like wheelset at 20 m/s (55
-//!   flange impacts) is 88 µm off at 5e-6, 14–19 µm at 1e-6 and 1.4 µm at
+//!   flange impacts) is 79 µm off at 5e-6, 14 µm at 1e-6 and 1.3 µm at
 //!   2e-7. A suspended wheelset is held off its flange by its suspension:
 //!   the bogie's figures above include its flange contacts at 36 m/s.
 //! - With `run.lateral_tolerance_m` the atol is at most the tolerance over
 //!   the measured error per unit atol ([`SUSPENDED_ERROR_PER_ATOL`] = 2,
-//!   from 9.8 µm at 5e-6; [`FREE_FLANGE_ERROR_PER_ATOL`] = 7, from 1.4 µm at
+//!   from 8.8 µm at 5e-6; [`FREE_FLANGE_ERROR_PER_ATOL`] = 7, from 1.3 µm at
 //!   2e-7). The error was measured to fall faster than linearly with the
-//!   atol (88 → 19 → 1.4 µm for 5e-6 → 1e-6 → 2e-7), so the linear scaling
+//!   atol (79 → 14 → 1.3 µm for 5e-6 → 1e-6 → 2e-7), so the linear scaling
 //!   below the measured point is conservative.
 
 use serde::Serialize;
@@ -33,20 +33,20 @@ use crate::config::scene::{
 use crate::config::vehicle::VehicleFile;
 
 /// Rosenbrock's absolute tolerance for a vehicle whose wheelsets are all
-/// suspended, or that cannot reach its flanges (module docs: 9.8 µm on
+/// suspended, or that cannot reach its flanges (module docs: 8.8 µm on
 /// the bogie at 20 m/s).
 pub const SUSPENDED_ATOL: f64 = 5e-6;
 
 /// Rosenbrock's absolute tolerance when a free wheelset may reach its
-/// flanges (module docs: 1.4 µm on the flange-limited wheelset at 20 m/s).
+/// flanges (module docs: 1.3 µm on the flange-limited wheelset at 20 m/s).
 pub const FREE_FLANGE_ATOL: f64 = 2e-7;
 
 /// Measured lateral error per unit of atol (m/m) of the suspended case:
-/// 9.8 µm at 5e-6, rounded up.
+/// 8.8 µm at 5e-6, rounded up.
 pub const SUSPENDED_ERROR_PER_ATOL: f64 = 2.0;
 
 /// Measured lateral error per unit of atol (m/m) of the free wheelset in
-/// flange contact: 1.4 µm at 2e-7.
+/// flange contact: 1.3 µm at 2e-7, rounded up.
 pub const FREE_FLANGE_ERROR_PER_ATOL: f64 = 7.0;
 
 /// The step of the reference run (s): RK4 at 0.1 ms, the reference of the
@@ -146,14 +146,14 @@ pub fn planned(
             FREE_FLANGE_ATOL,
             FREE_FLANGE_ERROR_PER_ATOL,
             format!(
-                "free wheelset '{name}' (no suspension element) may run into its flanges (flange search {flange}): measured 1.4 µm at 2e-7 on the flange-limited wheelset at 20 m/s (88 µm at 5e-6)"
+                "free wheelset '{name}' (no suspension element) may run into its flanges (flange search {flange}): measured 1.3 µm at 2e-7 on the flange-limited wheelset at 20 m/s (79 µm at 5e-6)"
             ),
         ),
         _ => (
             SUSPENDED_ATOL,
             SUSPENDED_ERROR_PER_ATOL,
             format!(
-                "{}: measured 9.8 / 8.2 µm on the bogie at 20 / 36 m/s, 4.5 µm on the car at 40 m/s",
+                "{}: measured 8.8 / 7.2 µm on the bogie at 20 / 36 m/s, 4.1 µm on the car at 40 m/s",
                 if free.is_empty() {
                     "every wheelset suspended"
                 } else {
