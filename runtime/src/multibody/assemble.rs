@@ -292,7 +292,9 @@ impl<'a> VehicleSystem<'a> {
             accepted: Default::default(),
             wheelset_parts: Vec::new(),
             accepted_parts: Vec::new(),
-            reuse_except: None,
+            column: None,
+            element_forces: Vec::new(),
+            accepted_element_forces: Vec::new(),
             contacts_reused: Vec::new(),
             settings,
         };

@@ -56,7 +56,7 @@ impl VehicleSystem<'_> {
         for (i, w) in vehicle.wheelsets.iter().enumerate() {
             // A Jacobian column (`rhs_column`): this wheelset is at the
             // accepted state, its contacts are that state's.
-            let reuse = self.reuse_except.is_some_and(|k| k != Some(i));
+            let reuse = self.column.is_some_and(|c| c.wheelset != Some(i));
             self.contacts_reused[i] = reuse;
             if reuse {
                 let part = self.accepted_parts[i];
@@ -249,15 +249,31 @@ impl VehicleSystem<'_> {
                 self.element_axes.push(axes);
             }
         }
+        if self.element_forces.len() != self.elements.len() {
+            self.element_forces.clear();
+        }
         for (idx, (e, spec)) in self.elements.iter().zip(&vehicle.elements).enumerate() {
             let ia = self.anchor_index(spec.a);
             let ib = self.anchor_index(spec.b);
-            let a = ia.map_or(ground, |k| self.anchors[k]);
-            let b = ib.map_or(ground, |k| self.anchors[k]);
-            // Only body anchors have track axes; references' are the track's.
-            let axes = ia.and_then(|k| self.element_axes.get(k));
             let (start, len) = (self.internal_offsets[idx], e.internal_len());
-            let f = e.evaluate_along(&a, &b, &self.internal[start..start + len], axes);
+            // A Jacobian column (`rhs_column`) that does not touch this
+            // element: its force is the accepted state's.
+            let f = match self.column {
+                Some(c) if !c.touches(ia, ib, start..start + len) => {
+                    self.accepted_element_forces[idx]
+                }
+                _ => {
+                    let a = ia.map_or(ground, |k| self.anchors[k]);
+                    let b = ib.map_or(ground, |k| self.anchors[k]);
+                    // Only body anchors have track axes; references' are the track's.
+                    let axes = ia.and_then(|k| self.element_axes.get(k));
+                    e.evaluate_along(&a, &b, &self.internal[start..start + len], axes)
+                }
+            };
+            match self.element_forces.get_mut(idx) {
+                Some(slot) => *slot = f,
+                None => self.element_forces.push(f),
+            }
             self.internal_rates[start..start + len].copy_from_slice(&f.internal_rate_m_s[..len]);
             if let Some(k) = ia.filter(|&k| k < n_bodies) {
                 let cg = self.states[k].position_m;

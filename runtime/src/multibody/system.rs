@@ -26,7 +26,7 @@ use crate::integrators::{Control, JacobianBlocks, KinematicBlock, OdeSystem};
 use crate::multibody::axle_frame::axle_frame_derivatives;
 use crate::multibody::body::{BodyState, Wrench, derivatives};
 use crate::multibody::contact_force::ContactForce;
-use crate::multibody::element::{Anchor, SpringDamper};
+use crate::multibody::element::{Anchor, ElementForce, SpringDamper};
 use crate::multibody::{DynamicsError, EnergyLedger, SystemSettings};
 
 /// Step of the central difference giving a reference's velocity and
@@ -139,13 +139,43 @@ pub struct VehicleSystem<'a> {
     /// state (reused by Jacobian columns, [`OdeSystem::rhs_column`]).
     pub(super) wheelset_parts: Vec<WheelsetPart>,
     pub(super) accepted_parts: Vec<WheelsetPart>,
-    /// The wheelset whose contacts the current evaluation computes when it
-    /// reuses the others' (a Jacobian column), `Some(None)` when it reuses
-    /// every wheelset's; `None` for a full evaluation.
-    pub(super) reuse_except: Option<Option<usize>>,
+    /// What the current evaluation, a Jacobian column, perturbs (the
+    /// rest is reused from the accepted state); `None` for a full
+    /// evaluation.
+    pub(super) column: Option<ColumnPerturbation>,
+    /// Every element's force at the last evaluation, and at the last
+    /// accepted state (reused by Jacobian columns).
+    pub(super) element_forces: Vec<ElementForce>,
+    pub(super) accepted_element_forces: Vec<ElementForce>,
     /// Per wheelset, whether the last evaluation reused its contacts from
     /// the accepted state instead of computing them.
     pub(super) contacts_reused: Vec<bool>,
+}
+
+/// The one component a Jacobian column perturbs
+/// ([`OdeSystem::rhs_column`]): a body's (its anchor index, and its
+/// wheelset index when it is a wheelset) or an element's internal state
+/// (its index among the internal states).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) struct ColumnPerturbation {
+    pub(super) wheelset: Option<usize>,
+    pub(super) body: Option<usize>,
+    pub(super) internal: Option<usize>,
+}
+
+impl ColumnPerturbation {
+    /// Whether element `idx`, between anchors `ia` and `ib` with internal
+    /// states `internal` (indices among all internal states), must be
+    /// evaluated again: one of its ends or internal states is perturbed.
+    pub(super) fn touches(
+        &self,
+        ia: Option<usize>,
+        ib: Option<usize>,
+        internal: std::ops::Range<usize>,
+    ) -> bool {
+        let body = self.body.is_some() && (ia == self.body || ib == self.body);
+        body || self.internal.is_some_and(|i| internal.contains(&i))
+    }
 }
 
 /// What a wheelset's contacts give the rest of an evaluation: its state,
@@ -363,6 +393,8 @@ impl OdeSystem for VehicleSystem<'_> {
         // columns at this state reuse.
         self.memory.clone_from(&self.pending);
         self.accepted_parts.clone_from(&self.wheelset_parts);
+        self.accepted_element_forces
+            .clone_from(&self.element_forces);
         self.accepted.t_s = t;
         self.accepted.y.clear();
         self.accepted.y.extend_from_slice(y);
@@ -433,13 +465,14 @@ impl OdeSystem for VehicleSystem<'_> {
         JacobianBlocks::dense_kinematic(n, kinematics)
     }
 
-    /// A Jacobian column at the accepted state: the wheelsets whose state
-    /// is the accepted one keep their contacts (a contact depends on its
-    /// own wheelset's state and on time only), so only the perturbed
-    /// wheelset's are solved; a perturbed free body or internal state
-    /// solves none. Bit for bit the wrench of the accepted state's
-    /// evaluation, which a new solve would reproduce to the contact
-    /// solver's tolerance.
+    /// A Jacobian column at the accepted state: what the perturbed
+    /// component cannot change is reused from the accepted state's
+    /// evaluation — every other wheelset's contacts (a contact depends on
+    /// its own wheelset's state and on time only) and every element with
+    /// neither end on the perturbed body nor the perturbed internal state.
+    /// A wheelset column solves that wheelset's contacts, a frame or car
+    /// body column none. Bit for bit the accepted state's forces, which a
+    /// new evaluation would reproduce to the contact solver's tolerance.
     fn rhs_column(
         &mut self,
         t: f64,
@@ -448,19 +481,26 @@ impl OdeSystem for VehicleSystem<'_> {
         dydt: &mut [f64],
     ) -> Result<(), DynamicsError> {
         let n_ws = self.vehicle.wheelsets.len();
+        let n_body_states = self.vehicle.body_state_len();
         let at_accepted = t == self.accepted.t_s
             && y.len() == self.accepted.y.len()
+            && changed < y.len()
             && self.accepted_parts.len() == n_ws
-            && (0..n_ws).all(|i| {
-                let slot = BodyState::slot(i);
-                slot.contains(&changed) || y[slot.clone()] == self.accepted.y[slot]
-            });
+            && self.accepted_element_forces.len() == self.elements.len()
+            && y.iter()
+                .zip(&self.accepted.y)
+                .enumerate()
+                .all(|(i, (a, b))| i == changed || a == b);
         if at_accepted {
-            let perturbed = (0..n_ws).find(|&i| BodyState::slot(i).contains(&changed));
-            self.reuse_except = Some(perturbed);
+            let body = (changed < n_body_states).then_some(changed / BodyState::LEN);
+            self.column = Some(ColumnPerturbation {
+                wheelset: body.filter(|&k| k < n_ws),
+                body,
+                internal: changed.checked_sub(n_body_states),
+            });
         }
         let result = self.rhs(t, y, dydt);
-        self.reuse_except = None;
+        self.column = None;
         result
     }
 
