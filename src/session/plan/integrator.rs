@@ -17,6 +17,13 @@
 //!   flange impacts) is 79 µm off at 5e-6, 14 µm at 1e-6 and 1.3 µm at
 //!   2e-7. A suspended wheelset is held off its flange by its suspension:
 //!   the bogie's figures above include its flange contacts at 36 m/s.
+//! - Only on an ideal straight over the run's range. Elsewhere RK4 at the
+//!   scene's step: in sustained flange contact the reused Jacobian does
+//!   not hold the flange's stiffness, steps shrink below 0.5 ms and the
+//!   Jacobian is renewed every dozen steps — the bogie scenes on R 250 m
+//!   and R 600 m took 98 539 and 130 348 steps (7 635 and 7 124 rejected),
+//!   1.7× and 2.5× RK4's wall time, and were 11 and 16 µm off RK4 at
+//!   0.5 ms ([`CURVED_TRACK_REASON`]).
 //! - With `run.lateral_tolerance_m` the atol is at most the tolerance over
 //!   the measured error per unit atol ([`SUSPENDED_ERROR_PER_ATOL`] = 2,
 //!   from 8.8 µm at 5e-6; [`FREE_FLANGE_ERROR_PER_ATOL`] = 7, from 1.3 µm at
@@ -119,6 +126,11 @@ pub struct IntegratorPlan {
     pub free_wheelsets: Vec<String>,
     /// The scene's `run.lateral_tolerance_m` (m).
     pub lateral_tolerance_m: Option<f64>,
+    /// Whether the track is an ideal straight over the run's range (the
+    /// stiff integrator is chosen only there, module docs).
+    pub straight: bool,
+    /// The scene's RK4 step (s), kept on other tracks.
+    pub scene_step_s: f64,
 }
 
 /// The wheelsets of `v` no element is attached to (neither end).
@@ -183,6 +195,29 @@ fn scene_text(scene: &Scene) -> String {
     }
 }
 
+/// What the planner would choose on a track that is (`straight`) or is
+/// not an ideal straight over the range (module docs): off the straight,
+/// RK4 at the scene's step `scene_step_s`.
+pub fn planned_on(
+    straight: bool,
+    scene_step_s: f64,
+    free: &[String],
+    flange: FlangeMode,
+    lateral_tolerance_m: Option<f64>,
+) -> (IntegratorChoice, String) {
+    if straight {
+        planned(free, flange, lateral_tolerance_m)
+    } else {
+        (
+            IntegratorChoice::rk4(scene_step_s),
+            CURVED_TRACK_REASON.to_string(),
+        )
+    }
+}
+
+/// Why the stiff integrator is not chosen off an ideal straight.
+pub const CURVED_TRACK_REASON: &str = "the track is not an ideal straight over the range: in sustained flange contact (curves) the stiff integrator is slower than RK4 and less accurate (measured: the bogie scenes on R 250 m and R 600 m took 1.7× and 2.5× RK4's wall time, 11 and 16 µm off), so RK4 at the scene's step";
+
 /// Decide the integrator: `flange` the plan's flange search, `chosen`
 /// whether the planner chooses it (`mode = "required"` without
 /// `run.integrator`, or `integrator` in `[plan] choose`).
@@ -190,11 +225,13 @@ pub fn decide(
     scene: &Scene,
     free: Vec<String>,
     flange: FlangeMode,
+    straight: bool,
     mode: PlanMode,
     chosen: bool,
 ) -> (Decision, IntegratorPlan) {
     let tol = scene.run.lateral_tolerance_m;
-    let (planned, why) = planned(&free, flange, tol);
+    let scene_step_s = scene.run.step_s;
+    let (planned, why) = planned_on(straight, scene_step_s, &free, flange, tol);
     let (value, by, reason, choice) = match mode {
         PlanMode::Everything => {
             let c = IntegratorChoice::rk4(REFERENCE_STEP_S);
@@ -224,6 +261,8 @@ pub fn decide(
             choice,
             free_wheelsets: free,
             lateral_tolerance_m: tol,
+            straight,
+            scene_step_s,
         },
     )
 }
@@ -235,7 +274,13 @@ pub fn revise(p: &mut IntegratorPlan, d: &mut Decision) {
     if d.by != By::Planner {
         return;
     }
-    let (c, why) = planned(&p.free_wheelsets, FlangeMode::Auto, p.lateral_tolerance_m);
+    let (c, why) = planned_on(
+        p.straight,
+        p.scene_step_s,
+        &p.free_wheelsets,
+        FlangeMode::Auto,
+        p.lateral_tolerance_m,
+    );
     if p.choice != Some(c) {
         p.choice = Some(c);
         d.value = c.text();
@@ -287,13 +332,30 @@ mod tests {
     }
 
     #[test]
+    fn off_the_straight_rk4_at_the_scenes_step_stays() {
+        let free = free_wheelsets(&vehicle("ml95_like_bogie.toml"));
+        let (c, why) = planned_on(false, 5e-4, &free, FlangeMode::Auto, None);
+        assert_eq!(c, IntegratorChoice::rk4(5e-4));
+        assert!(why.contains("not an ideal straight"), "{why}");
+        let (c, _) = planned_on(true, 5e-4, &free, FlangeMode::Auto, None);
+        assert_eq!(c.kind, IntegratorKind::Rosenbrock);
+    }
+
+    #[test]
     fn modes_scene_required_and_everything() {
         let ls = LoadedScene::default_scene(&[]).expect("scene");
         let s = &ls.scene;
         let free = vec!["wheelset".to_string()];
         // Scene: the scene's RK4 stays; the block says what the planner
         // would choose.
-        let (d, p) = decide(s, free.clone(), FlangeMode::Auto, PlanMode::Scene, false);
+        let (d, p) = decide(
+            s,
+            free.clone(),
+            FlangeMode::Auto,
+            true,
+            PlanMode::Scene,
+            false,
+        );
         assert_eq!(p.choice, None);
         assert_eq!(d.by, By::Scene);
         assert_eq!(d.value, "rk4 0.100 ms");
@@ -303,9 +365,23 @@ mod tests {
             d.reason
         );
         // Required, set in the scene and not chosen: the scene's.
-        let (_, p) = decide(s, free.clone(), FlangeMode::Auto, PlanMode::Required, false);
+        let (_, p) = decide(
+            s,
+            free.clone(),
+            FlangeMode::Auto,
+            true,
+            PlanMode::Required,
+            false,
+        );
         assert_eq!(p.choice, None);
-        let (d, p) = decide(s, free.clone(), FlangeMode::Auto, PlanMode::Required, true);
+        let (d, p) = decide(
+            s,
+            free.clone(),
+            FlangeMode::Auto,
+            true,
+            PlanMode::Required,
+            true,
+        );
         assert_eq!(d.by, By::Planner);
         assert_eq!(p.choice.unwrap().atol, Some(FREE_FLANGE_ATOL));
         let mut run = s.run.clone();
@@ -313,7 +389,7 @@ mod tests {
         assert_eq!(run.integrator, IntegratorKind::Rosenbrock);
         assert_eq!(run.tolerances().1, FREE_FLANGE_ATOL);
         // Everything: RK4 at 0.1 ms.
-        let (d, p) = decide(s, free, FlangeMode::On, PlanMode::Everything, false);
+        let (d, p) = decide(s, free, FlangeMode::On, true, PlanMode::Everything, false);
         assert_eq!(d.by, By::Everything);
         assert_eq!(p.choice, Some(IntegratorChoice::rk4(REFERENCE_STEP_S)));
     }
@@ -326,6 +402,7 @@ mod tests {
             &ls.scene,
             free.clone(),
             FlangeMode::Off,
+            true,
             PlanMode::Required,
             true,
         );
@@ -333,7 +410,14 @@ mod tests {
         revise(&mut p, &mut d);
         assert_eq!(p.choice.unwrap().atol, Some(FREE_FLANGE_ATOL));
         assert!(d.reason.starts_with("revised"), "{}", d.reason);
-        let (mut d, mut p) = decide(&ls.scene, free, FlangeMode::Off, PlanMode::Scene, false);
+        let (mut d, mut p) = decide(
+            &ls.scene,
+            free,
+            FlangeMode::Off,
+            true,
+            PlanMode::Scene,
+            false,
+        );
         revise(&mut p, &mut d);
         assert_eq!(p.choice, None);
     }

@@ -10,7 +10,7 @@
 //! | track range | only the stretch the run covers: from the rearmost point of the vehicle (wheelsets, bodies, references) at the start, minus [`RANGE_MARGIN_M`], to the foremost point at the end (distance, or duration × speed, less with a deceleration), plus the 2 m the dynamics keeps ahead and [`RANGE_MARGIN_M`]. Built in memory ([`build_track_range`]); the rows are those of the whole-track table (same grid). |
 //! | table step | exact at any step on an ideal straight (linear interpolation of straight lines; `sim tradeoff` on the bogie measured zero error up to 1 m): [`MAX_STEP_M`]. Otherwise the coarsest of [`NICE_STEPS_M`] whose chord error h²κ/8 stays within [`GEOMETRY_TOLERANCE_M`] (κ the largest curvature of the rails over the range, irregularities included). The paper's rule h ≤ V·Δt (§2) is reported for comparison. |
 //! | contact method | the contact lookup table where its error measured by `sim tradeoff` (`tables/planner/measured.toml`, [`measured()`]) is within the scene's `run.lateral_tolerance_m`; online otherwise (and always without a stated tolerance). |
-//! | integrator | `rosenbrock` (ROS34PW2, docs/reference/08-multibody.md §8.5; rtol 1e-9, largest step 10 ms) at atol [`SUSPENDED_ATOL`] = 5e-6, or [`FREE_FLANGE_ATOL`] = 2e-7 when a free wheelset (no suspension element attached) may reach its flanges (flange search `auto` or `on`); with `run.lateral_tolerance_m`, atol ≤ tolerance / the measured error per atol (2 suspended, 7 free with flange). Measured against RK4 at 0.1 ms: bogie 8.8 µm (20 m/s) and 7.2 µm (36 m/s), car 4.1 µm at 5e-6, 3–4× less CPU than RK4 at 0.5 ms; the flange-limited free wheelset 79 µm at 5e-6, 1.3 µm at 2e-7 ([`integrator`]). |
+//! | integrator | on an ideal straight over the range, `rosenbrock` (ROS34PW2, docs/reference/08-multibody.md §8.5; rtol 1e-9, largest step 10 ms) at atol [`SUSPENDED_ATOL`] = 5e-6, or [`FREE_FLANGE_ATOL`] = 2e-7 when a free wheelset (no suspension element attached) may reach its flanges (flange search `auto` or `on`); with `run.lateral_tolerance_m`, atol ≤ tolerance / the measured error per atol (2 suspended, 7 free with flange). Measured against RK4 at 0.1 ms: bogie 8.8 µm (20 m/s) and 7.2 µm (36 m/s), car 4.1 µm at 5e-6, 3–4× less CPU than RK4 at 0.5 ms; the flange-limited free wheelset 79 µm at 5e-6, 1.3 µm at 2e-7. Elsewhere RK4 at the scene's step: in sustained flange contact (curves) the stiff integrator was 1.7–2.5× slower than RK4 and 11–16 µm off ([`integrator`]). |
 //! | creep law | never chosen (it is physics, not numerics); its cost relative to Polach, measured by `sim tradeoff`, is stated (`tables/planner/measured.toml`, [`measured()`]). |
 //!
 //! The `[plan]` section of the scene says who decides:
@@ -243,6 +243,7 @@ pub fn plan(ls: &LoadedScene) -> Result<Plan> {
         scene,
         integrator::free_wheelsets(&vfile),
         flange,
+        track.straight(),
         mode,
         planner_chooses(PlanItem::Integrator, "run.integrator"),
     );
