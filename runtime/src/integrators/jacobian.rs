@@ -145,9 +145,9 @@ pub(super) struct BlockJacobian {
     rhs_scratch: Vec<f64>,
     /// State indices outside every block.
     outside: Vec<usize>,
-    /// The solves with the kinematic rows eliminated, if declared.
+    /// The solves with the kinematic rows eliminated, if declared (then
+    /// `lu` and `pivots` stay empty).
     reduction: Option<KinematicReduction>,
-    n: usize,
 }
 
 impl BlockJacobian {
@@ -159,13 +159,17 @@ impl BlockJacobian {
             .collect();
         let reduction =
             (!layout.kinematics.is_empty()).then(|| KinematicReduction::new(&layout.kinematics, n));
+        let factored = if reduction.is_some() {
+            &[][..]
+        } else {
+            &sizes[..]
+        };
         Self {
-            reduction,
-            n,
             outside,
             jac: sizes.iter().map(|&m| vec![0.0; m * m]).collect(),
-            lu: sizes.iter().map(|&m| vec![0.0; m * m]).collect(),
-            pivots: sizes.iter().map(|&m| vec![0; m]).collect(),
+            lu: factored.iter().map(|&m| vec![0.0; m * m]).collect(),
+            pivots: factored.iter().map(|&m| vec![0; m]).collect(),
+            reduction,
             layout,
             factored_for: 0.0,
             y_pert: vec![0.0; n],
@@ -245,7 +249,7 @@ impl BlockJacobian {
             return true;
         }
         if let Some(red) = &mut self.reduction {
-            let ok = red.factor(&self.jac[0], self.n, inv_h_gamma);
+            let ok = red.factor(&self.jac[0], self.y_pert.len(), inv_h_gamma);
             self.factored_for = if ok { inv_h_gamma } else { 0.0 };
             return ok;
         }

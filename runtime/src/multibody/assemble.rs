@@ -20,7 +20,7 @@ use crate::contact::{ContactSolver, FlangeSearch};
 use crate::forces::normal::ContactMemory;
 use crate::geometry::track::{Side, TrackTables};
 use crate::multibody::body::{BodyState, Wrench};
-use crate::multibody::element::{Anchor, SpringDamper};
+use crate::multibody::element::{Anchor, ElementForce, SpringDamper};
 
 impl<'a> VehicleSystem<'a> {
     /// Builds the system and its initial state y0 (module docs; the
@@ -290,10 +290,10 @@ impl<'a> VehicleSystem<'a> {
             track_end_reached: false,
             contact_pattern: Vec::new(),
             accepted: Default::default(),
-            wheelset_parts: Vec::new(),
+            contact_wrenches: vec![Wrench::zero(); vehicle.wheelsets.len()],
             accepted_parts: Vec::new(),
             column: None,
-            element_forces: Vec::new(),
+            element_forces: vec![ElementForce::default(); vehicle.elements.len()],
             accepted_element_forces: Vec::new(),
             contacts_reused: Vec::new(),
             settings,

@@ -29,7 +29,7 @@ use super::formulation::{
     ElementAxes, GyroscopicMoments, RollMoment, axle_frame_euler_correction, roll_arm_correction,
 };
 use super::settings::BRAKE_STICK_SPEED_M_S;
-use super::system::{REFERENCE_DS_M, VehicleSystem, WheelsetPart};
+use super::system::{REFERENCE_DS_M, VehicleSystem};
 use super::track_motion::{frame_rotation, project_s, reference_anchor, relative_to};
 use crate::contact::WheelsetPose;
 use crate::forces::normal::ContactMemory;
@@ -50,9 +50,6 @@ impl VehicleSystem<'_> {
         let n_ws = vehicle.wheelsets.len();
         self.formulation_power_w = 0.0;
         self.contacts_reused.resize(n_ws, false);
-        if self.wheelset_parts.len() != n_ws {
-            self.wheelset_parts.clear();
-        }
         for (i, w) in vehicle.wheelsets.iter().enumerate() {
             // A Jacobian column (`rhs_column`): this wheelset is at the
             // accepted state, its contacts are that state's.
@@ -182,16 +179,8 @@ impl VehicleSystem<'_> {
                 angular_velocity_rad_s: omega - axle * omega.dot(&axle),
             };
             self.wrenches[i] = wrench;
+            self.contact_wrenches[i] = wrench;
             self.states[i] = st;
-            let part = WheelsetPart {
-                state: st,
-                anchor: self.anchors[i],
-                wrench,
-            };
-            match self.wheelset_parts.get_mut(i) {
-                Some(p) => *p = part,
-                None => self.wheelset_parts.push(part),
-            }
         }
         for (j, _) in vehicle.bodies.iter().enumerate() {
             let k = n_ws + j;
@@ -249,9 +238,6 @@ impl VehicleSystem<'_> {
                 self.element_axes.push(axes);
             }
         }
-        if self.element_forces.len() != self.elements.len() {
-            self.element_forces.clear();
-        }
         for (idx, (e, spec)) in self.elements.iter().zip(&vehicle.elements).enumerate() {
             let ia = self.anchor_index(spec.a);
             let ib = self.anchor_index(spec.b);
@@ -270,10 +256,7 @@ impl VehicleSystem<'_> {
                     e.evaluate_along(&a, &b, &self.internal[start..start + len], axes)
                 }
             };
-            match self.element_forces.get_mut(idx) {
-                Some(slot) => *slot = f,
-                None => self.element_forces.push(f),
-            }
+            self.element_forces[idx] = f;
             self.internal_rates[start..start + len].copy_from_slice(&f.internal_rate_m_s[..len]);
             if let Some(k) = ia.filter(|&k| k < n_bodies) {
                 let cg = self.states[k].position_m;

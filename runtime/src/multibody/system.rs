@@ -134,10 +134,11 @@ pub struct VehicleSystem<'a> {
     /// The last accepted state (t s, y), and whether the last evaluation
     /// is still that state's ([`VehicleSystem::evaluated_at`]).
     pub(super) accepted: AcceptedState,
-    /// Per wheelset, its state, anchor and contact wrench at the last
-    /// evaluation that computed its contacts, and at the last accepted
-    /// state (reused by Jacobian columns, [`OdeSystem::rhs_column`]).
-    pub(super) wheelset_parts: Vec<WheelsetPart>,
+    /// Per wheelset, the wrench of its contacts, axle torque and
+    /// formulation moments (before the elements') at the last evaluation.
+    pub(super) contact_wrenches: Vec<Wrench>,
+    /// Per wheelset at the last accepted state: what Jacobian columns
+    /// reuse ([`OdeSystem::rhs_column`]).
     pub(super) accepted_parts: Vec<WheelsetPart>,
     /// What the current evaluation, a Jacobian column, perturbs (the
     /// rest is reused from the accepted state); `None` for a full
@@ -392,7 +393,13 @@ impl OdeSystem for VehicleSystem<'_> {
         // one to keep, and its wheelsets' contacts are the ones Jacobian
         // columns at this state reuse.
         self.memory.clone_from(&self.pending);
-        self.accepted_parts.clone_from(&self.wheelset_parts);
+        let n_ws = self.vehicle.wheelsets.len();
+        self.accepted_parts.clear();
+        self.accepted_parts.extend((0..n_ws).map(|i| WheelsetPart {
+            state: self.states[i],
+            anchor: self.anchors[i],
+            wrench: self.contact_wrenches[i],
+        }));
         self.accepted_element_forces
             .clone_from(&self.element_forces);
         self.accepted.t_s = t;

@@ -182,8 +182,8 @@ pub struct SpringDamper {
     pub laws: [AxisLaws; 3],
 }
 
-/// Result of [`SpringDamper::evaluate`].
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Result of [`SpringDamper::evaluate`] (default: all zero).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct ElementForce {
     /// Force on anchor b, global (N); the force on a is its opposite.
     pub force_on_b_n: Vector3<f64>,
