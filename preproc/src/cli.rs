@@ -376,47 +376,60 @@ impl ProgressSink for BarSink {
     }
 }
 
+/// `track-preproc build` without its printing (also the Python package's
+/// `build_track`): the request checked, the outputs checked before the
+/// work (no output replaces an input, every location can be written,
+/// `runtime::io::outputs`), the rail profile's warnings given to `warn`,
+/// the build, then the contact plots when asked for.
+pub fn build(
+    args: &BuildArgs,
+    command_line: String,
+    sink: &dyn ProgressSink,
+    warn: &dyn Fn(&[String]),
+) -> Result<crate::summary::BuildSummary> {
+    let req = args.to_request(command_line)?;
+    let mut inputs: Vec<PathBuf> = req
+        .geometry
+        .paths()
+        .into_iter()
+        .chain(req.irregularities.iter().map(PathBuf::as_path))
+        .map(Path::to_path_buf)
+        .collect();
+    if let Some(c) = &req.contact {
+        inputs.extend(
+            crate::contact_table::profile_paths(c)
+                .into_iter()
+                .map(|(_, p)| p.to_path_buf()),
+        );
+    }
+    check_outputs(
+        &inputs,
+        &outputs(&req.output, args.contact.plots.as_deref()),
+    )?;
+    warn(
+        &crate::pipeline::check_build_rail(&req.config)?
+            .map(|c| c.warnings)
+            .unwrap_or_default(),
+    );
+    let mut summary = run_build(&req, sink)
+        .with_context(|| format!("building {} failed", req.output.display()))?;
+    if let (Some(dir), Some(_)) = (&args.contact.plots, &req.contact) {
+        let table = runtime::io::schema::read_contact_table(&req.output)?
+            .context("the contact table just written is missing")?;
+        crate::contact_plots::write_contact_plots(dir, &table)
+            .with_context(|| format!("writing plots into {}", dir.display()))?;
+    }
+    summary.peak_memory_mb = crate::summary::peak_memory_mb();
+    Ok(summary)
+}
+
 /// Run the CLI.
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Build(args) => {
-            let req = args.to_request(command_line())?;
-            // Before the work: no output replaces an input, every output
-            // location can be written (`runtime::io::outputs`).
-            let mut inputs: Vec<PathBuf> = req
-                .geometry
-                .paths()
-                .into_iter()
-                .chain(req.irregularities.iter().map(PathBuf::as_path))
-                .map(Path::to_path_buf)
-                .collect();
-            if let Some(c) = &req.contact {
-                inputs.extend(
-                    crate::contact_table::profile_paths(c)
-                        .into_iter()
-                        .map(|(_, p)| p.to_path_buf()),
-                );
-            }
-            check_outputs(
-                &inputs,
-                &outputs(&req.output, args.contact.plots.as_deref()),
-            )?;
-            print_warnings(
-                &crate::pipeline::check_build_rail(&req.config)?
-                    .map(|c| c.warnings)
-                    .unwrap_or_default(),
-            );
             let sink = BarSink::new();
-            let mut summary = run_build(&req, &sink)
-                .with_context(|| format!("building {} failed", req.output.display()))?;
+            let summary = build(&args, command_line(), &sink, &|w| print_warnings(w))?;
             sink.event(Progress::Done);
-            if let (Some(dir), Some(_)) = (&args.contact.plots, &req.contact) {
-                let table = runtime::io::schema::read_contact_table(&req.output)?
-                    .context("the contact table just written is missing")?;
-                crate::contact_plots::write_contact_plots(dir, &table)
-                    .with_context(|| format!("writing plots into {}", dir.display()))?;
-            }
-            summary.peak_memory_mb = crate::summary::peak_memory_mb();
             if args.json {
                 println!("{}", serde_json::to_string_pretty(&summary)?);
             } else {

@@ -19,6 +19,7 @@ pub mod columns;
 pub mod bodies;
 pub mod chunks;
 pub mod curving;
+pub mod paths;
 
 pub use attribute::AttrValue;
 pub use bodies::{BODY_COLUMNS, BodyKind, BodySample, BodySeries, CarBody};
@@ -26,6 +27,7 @@ pub use chunks::{DecimatedView, ResultsSink, SinkError};
 pub use columns::{
     Access, Column, Dataset, TIME_S, Values, WHEEL_COLUMNS, WHEELSET_COLUMNS, ZONE_COLUMNS,
 };
+pub use paths::{NamedSeries, SeriesValues};
 
 use crate::contact::nadal::NadalLimit;
 

@@ -24,7 +24,7 @@ use runtime::multibody::loaded_wheelset::{
 
 pub use poses::{PoseRow, read_poses};
 pub use report::{ContactCase, ContactReport, ForceModelReport, WheelReport, WheelsetReport};
-pub use rows::{PatchRow, patch_rows, rows_csv, rows_table};
+pub use rows::{CSV_COLUMNS, PatchRow, patch_rows, rows_csv, rows_table};
 
 /// The wheelset's motion and the force models of `sim contact`.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -25,28 +25,8 @@ use std::path::Path;
 use super::results_file::{has, hdf5_err, open_group, read_columns};
 use super::results_writer::{append_columns, create_columns, create_group};
 use super::{SchemaError, attrs};
+use crate::results::paths::{BODIES_GROUP, body_group_names};
 use crate::results::{BODY_COLUMNS, BodyKind, BodySeries, CarBody, RunResults};
-
-/// Name of the group holding the bodies.
-pub const BODIES_GROUP: &str = "bodies";
-
-/// Group name of body `k`: its name with '/' (not allowed in an HDF5 link
-/// name) replaced by '_', "." and ".." spelled "_"; `_<k>` appended when
-/// that repeats the group name of an earlier body.
-pub(super) fn body_group_names(bodies: &[BodySeries]) -> Vec<String> {
-    let mut names: Vec<String> = Vec::with_capacity(bodies.len());
-    for (k, b) in bodies.iter().enumerate() {
-        let mut n = b.name.replace('/', "_");
-        if n.is_empty() || n == "." || n == ".." {
-            n = "_".into();
-        }
-        if names.contains(&n) {
-            n = format!("{n}_{k}");
-        }
-        names.push(n);
-    }
-    names
-}
 
 /// Make `bodies/` and one empty, extendable subgroup per body of `record`;
 /// their group names, for [`append`].
