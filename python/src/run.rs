@@ -30,12 +30,33 @@ fn watched<R: Send>(
 ) -> PyResult<(R, Option<PyErr>)> {
     let mut interrupt = None;
     let mut tick_error = None;
-    // The GIL is released while the calling thread sleeps, which is nearly
-    // all the time; the worker never touches Python.
+    // The calling thread waits for the worker's result with the GIL
+    // released, waking every WATCH_PERIOD; the worker never touches Python.
     let result = std::thread::scope(|s| {
-        let worker = s.spawn(work);
-        while !worker.is_finished() {
-            py.detach(|| std::thread::sleep(WATCH_PERIOD));
+        let (done, finished) = std::sync::mpsc::sync_channel(1);
+        // A Mutex makes the receiver shareable with the GIL-free closure.
+        let finished = Mutex::new(finished);
+        let worker = s.spawn(move || {
+            // The receiver lives until the worker is joined below.
+            let _ = done.send(work());
+        });
+        loop {
+            let waited = py.detach(|| match finished.lock() {
+                Ok(f) => f.recv_timeout(WATCH_PERIOD),
+                Err(_) => Err(std::sync::mpsc::RecvTimeoutError::Disconnected),
+            });
+            match waited {
+                Ok(r) => {
+                    let _ = worker.join();
+                    return Some(r);
+                }
+                Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => {
+                    // The worker ended without a result: it panicked.
+                    let _ = worker.join();
+                    return None;
+                }
+                Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {}
+            }
             if interrupt.is_none()
                 && let Err(e) = py.check_signals()
             {
@@ -48,14 +69,13 @@ fn watched<R: Send>(
                 tick_error = Some(e);
             }
         }
-        worker.join()
     });
     if let Some(e) = tick_error {
         return Err(e);
     }
     match result {
-        Ok(r) => Ok((r, interrupt)),
-        Err(_) => Err(pyo3::exceptions::PyRuntimeError::new_err(
+        Some(r) => Ok((r, interrupt)),
+        None => Err(pyo3::exceptions::PyRuntimeError::new_err(
             "internal error: the worker thread panicked",
         )),
     }
