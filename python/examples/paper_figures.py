@@ -5,7 +5,9 @@
   amplitude at 2 m/s, growing above, flange-limited at 20 m/s; the
   wavelength is Klingel's 15.9 m.
 - Fig. 19: lateral contact forces on both wheels of the bogie's front
-  wheelset at 20 m/s (Polach).
+  wheelset at 20 m/s (Polach): the Y force of EN 14363, + towards the
+  track centre, so a centred wheelset's two wheels carry the same
+  positive Y (the inward components of their inclined normal forces).
 
 Our ML95-like data are not the paper's (docs/guide/critical-speed.md), so
 the curves agree in kind, not in every number.
@@ -58,7 +60,8 @@ def fig19(out):
     print(f"bogie at 20 m/s: RTF {r.summary['real_time_factor']:.1f}, "
           f"{r.summary['steps']} steps")
     ax.set_xlabel("time (s)")
-    ax.set_ylabel("lateral force Y on the wheel, + left (kN)")
+    ax.set_ylabel("lateral force Y on the wheel,\n+ towards the track centre (kN)")
+    ax.set_xlim(0.0, 5.0)
     ax.set_title("ML95-like bogie, front wheelset, 20 m/s, Polach (paper Fig. 19)")
     ax.grid(True, alpha=0.3)
     ax.legend()
