@@ -43,13 +43,6 @@ impl ContactOptions<'_> {
     }
 }
 
-/// contact(wheel, rail, y_mm, yaw_mrad=0.0, roll_rad=None, pitch_rate_rad_s=None,
-///         wheel_load_n=10000.0, speed_m_s=2.0, creep="polach", mu=0.3,
-///         young_pa=210e9, poisson=0.3, gauge_m=1.435, back_to_back_m=1.360,
-///         wheel_radius_m=0.46, rail_inclination="0", load="vertical",
-///         patch_location="centre", rigid=False, rail_profile_cant=None,
-///         profile_scheme="cubic", vertical_force_per_wheel_n=None) -> dict
-///
 /// The contact patches and forces of a wheelset on straight track at each
 /// pose, as `sim contact --poses POSES.csv --format csv` gives them (one
 /// row per pose, wheel and patch; left wheel first, deepest patch first),
@@ -58,7 +51,7 @@ impl ContactOptions<'_> {
 ///
 /// Per pose (float or array; length-1 inputs are repeated):
 /// - `y_mm`: lateral shift of the wheelset, + left (mm);
-/// - `yaw_mrad`: yaw, + nose left (mrad);
+/// - `yaw_mrad`: yaw, + nose left (mrad); None: 0;
 /// - `roll_rad`: roll, + raising the left wheel (rad); None: solved so that
 ///   both wheels carry `wheel_load_n`;
 /// - `pitch_rate_rad_s`: angular velocity of the axle, + rolling forward
@@ -221,17 +214,19 @@ fn poses<'py>(
         .collect())
 }
 
-/// equivalent_conicity(wheel, rail, amplitudes_mm=[1, 2, 3, 4, 5, 6],
-///                     gauge_m=1.435, back_to_back_m=1.360, wheel_radius_m=0.46,
-///                     rail_inclination="1:40", y_step_mm=0.1,
-///                     rail_profile_cant=None, profile_scheme="cubic") -> dict
-///
 /// EN 15302 equivalent conicity tan γe of a wheelset (the same `wheel`
-/// profile on both wheels) on a rail pair, at each amplitude ŷ (mm): the
+/// profile on both wheels) on a rail pair, at each amplitude ŷ (mm;
+/// `amplitudes_mm=None`: 1, 2, …, 6 mm): the
 /// standard's idealised wheelset (level, each wheel lowered onto its rail,
 /// rigid contact) gives Δr(y) = r_left − r_right on a lateral grid of step
 /// `y_step_mm`, and the kinematic oscillation of each amplitude its tan γe
 /// (Annex B, e = 1.5 m, r₀ = 0.46 m) and wavelength.
+///
+/// - `amplitudes_mm`: amplitudes ŷ (mm), each in (0, 50);
+/// - `gauge_m`, `back_to_back_m`, `wheel_radius_m`: track gauge, flange
+///   back distance and nominal rolling radius (m);
+/// - `rail_inclination`: "1:40", "1:20", "0" (profiles that carry it);
+/// - `y_step_mm`: step of the lateral grid of Δr (mm), in (0, 1].
 ///
 /// Keys: `amplitude_mm`, `tan_gamma_e` (–, NaN where the amplitude lies
 /// beyond the Δr the grid supports), `wavelength_m` (m), `y_mm` and

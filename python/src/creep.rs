@@ -5,9 +5,6 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use runtime::forces::creep::{CreepInput, CreepLaw};
 
-/// creep_forces(law, xi, eta, phi, a_m, b_m, normal_n, mu, shear_modulus_pa,
-///              poisson, speed_m_s=0.0) -> dict
-///
 /// Creep forces on the wheel of one law (kalker, heuristic, polach, fastsim,
 /// fastrip, none; default parameters, as in a scene) at every element of
 /// the inputs, which numpy broadcasts together (floats or arrays):

@@ -38,8 +38,6 @@ impl Results {
 
 #[pymethods]
 impl Results {
-    /// Results.open(path) -> Results
-    ///
     /// Read a results file written by `sim run`, a study, or `Results.save`.
     #[staticmethod]
     fn open(py: Python<'_>, path: PathBuf) -> PyResult<Results> {
@@ -83,7 +81,7 @@ impl Results {
             .collect()
     }
 
-    /// units(name) -> str: the unit of a series ("m", "rad", "N", "-", …).
+    /// The unit of series `name` ("m", "rad", "N", "-", …).
     fn units(&self, name: &str) -> PyResult<&'static str> {
         let name = name.trim_start_matches('/');
         self.results
@@ -147,7 +145,7 @@ impl Results {
         &self.results.scene_toml
     }
 
-    /// save(path): write the results file (HDF5, the same layout as `sim
+    /// Write the results file (HDF5, the same layout as `sim
     /// run` writes), all or nothing; a path that is one of the run's
     /// inputs is refused.
     fn save(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
@@ -167,7 +165,7 @@ impl Results {
         .map_err(value_error)
     }
 
-    /// to_xarray() -> xarray.Dataset with every series as a variable on the
+    /// An xarray.Dataset with every series as a variable on the
     /// `time_s` coordinate (its unit in the variable's `units` attribute);
     /// needs xarray installed.
     fn to_xarray<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {

@@ -177,8 +177,6 @@ struct Shown {
     wall_s: f64,
 }
 
-/// run(scene=None, set=None, progress=True) -> Results
-///
 /// Run a scene as `sim run` does and keep its results in memory.
 ///
 /// - `scene`: a scene file (TOML), a dict with the scene file's tables
@@ -187,7 +185,8 @@ struct Shown {
 /// - `set`: overrides by scene key, e.g. `{"initial.speed_m_s": 20,
 ///   "contact.creep_law": "kalker"}` (`--set key=value`; None removes an
 ///   entry);
-/// - `progress`: True draws a one-line progress on sys.stderr; a callable
+/// - `progress`: True (or None, the default) draws a one-line progress on
+///   sys.stderr; a callable
 ///   is called with (simulated_s, total_s, wall_s) about ten times a
 ///   second; False shows nothing.
 ///
@@ -313,10 +312,6 @@ fn poisoned() -> PyErr {
     pyo3::exceptions::PyRuntimeError::new_err("internal error: a lock was poisoned")
 }
 
-/// critical_speed(scene, creep=None, method=None, min_m_s=10.0, max_m_s=120.0,
-///                tol_m_s=0.1, jobs=None, set=None, out=None, skip_s=1.0,
-///                ramp_deceleration_m_s2=0.5, criterion="all") -> list of dict
-///
 /// The critical speed of a scene's vehicle as `sim critical-speed --json`
 /// finds it: one dict per creep law and method, in that order (its
 /// `results` list).

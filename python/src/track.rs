@@ -30,8 +30,6 @@ fn read_tables(path: &std::path::Path) -> anyhow::Result<TrackTables> {
 
 #[pymethods]
 impl Track {
-    /// Track.open(path) -> Track
-    ///
     /// Load the track tables of a table file written by `track-preproc
     /// build` or `railsim.build_track`.
     #[staticmethod]
@@ -78,8 +76,6 @@ impl Track {
         }
     }
 
-    /// probe(s_m) -> dict of numpy arrays
-    ///
     /// Both rails and the centreline at centreline distance(s) `s_m` (m), a
     /// float or an array, interpolated linearly in the tables as a
     /// simulation does (`sim probe`). Keys (n = number of distances):
@@ -189,10 +185,6 @@ fn rows3(py: Python<'_>, v: Vec<[f64; 3]>) -> PyResult<Bound<'_, PyArray2<f64>>>
     Ok(a.into_pyarray(py))
 }
 
-/// build_track(*, centerline=None, design=None, cant=None, irregularities=None,
-///             scheme="cubic", step_m=0.1, out, gauge_m=1.435,
-///             rail_inclination="1:40", rail=None, wheel=None) -> Track
-///
 /// Build a track's per-rail tables into the HDF5 file `out` (written all or
 /// nothing), as `track-preproc build` does, and return the track.
 ///
