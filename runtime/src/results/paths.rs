@@ -108,15 +108,15 @@ mod tests {
     #[test]
     fn paths_follow_the_file_layout_and_every_series_has_one_value_per_sample() {
         let mut r = RunResults::with_wheelsets(["front", "rear"]);
-        r.bodies = vec![
-            BodySeries::new("bogie/frame", BodyKind::Frame, 2000.0),
-            BodySeries::new("bogie/frame", BodyKind::Frame, 2000.0),
-        ];
         let s = WheelsetSample {
             lateral_m: 0.001,
             ..Default::default()
         };
         r.push(0.0, &[s, s]).unwrap();
+        r.bodies = vec![
+            BodySeries::new("bogie/frame", BodyKind::Free, 2000.0),
+            BodySeries::new("bogie/frame", BodyKind::Free, 2000.0),
+        ];
         for b in &mut r.bodies {
             b.push(&Default::default());
         }
