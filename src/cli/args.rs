@@ -28,6 +28,8 @@ pub enum Command {
     CriticalSpeed(CriticalSpeedArgs),
     /// Speed against accuracy: the scene over the numerical knobs against a fine reference run.
     Tradeoff(super::tradeoff::TradeoffArgs),
+    /// Parameter studies over any scene key: a study file's variants run on the local cores, sharded, resumable; `merge` joins shards; `slurm` writes a Slurm job array.
+    Sweep(super::sweep::SweepArgs),
     /// One vehicle in several formulations side by side (a published one, ours, each difference alone): linear and nonlinear critical speeds, cycle amplitudes, bifurcation plot.
     CrossCode(super::cross_code::CrossCodeArgs),
     /// Bifurcation diagram: every wheelset's hunting amplitude against speed (up-scan, ramp-down and/or step-and-dwell continuation).

@@ -3,6 +3,7 @@
 pub mod args;
 pub mod cross_code;
 pub mod probe;
+pub mod sweep;
 pub mod tradeoff;
 
 use std::path::{Path, PathBuf};
@@ -129,6 +130,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::CriticalSpeed(args) => critical_speed_command(&args),
         Command::Tradeoff(args) => tradeoff::command(&args),
         Command::CrossCode(args) => cross_code::command(&args),
+        Command::Sweep(args) => sweep::command(&args),
         Command::Bifurcation {
             scene,
             min,
@@ -205,7 +207,7 @@ pub fn run(cli: Cli) -> Result<()> {
 /// The vehicle's static preloads and residuals (docs/reference/08-multibody.md §8.3),
 /// as `sim run` prints them before the run.
 fn static_preload_text(scene: &crate::config::scene::LoadedScene) -> Result<String> {
-    let v = crate::config::vehicle::VehicleFile::load(&scene.path(&scene.scene.vehicle.file))?;
+    let v = scene.vehicle_file()?;
     Ok(v.statics.as_ref().map_or(String::new(), |s| s.table(&v)))
 }
 

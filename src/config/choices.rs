@@ -250,3 +250,15 @@ impl SplineScheme {
         }
     }
 }
+
+choice! {
+    /// How a critical speed is found (`--method`; `crate::studies::critical_speed`).
+    CriticalSpeedMethod {
+        /// Growth rates of runs at many speeds, bracketed to zero.
+        Time = "time",
+        /// The speed ramped down from a hunting cycle until it dies out.
+        Ramp = "ramp",
+        /// Eigenvalues of the linearised centred run.
+        Linear = "linear",
+    }
+}

@@ -9,6 +9,7 @@ pub mod overrides;
 pub mod scene;
 pub mod statics;
 pub mod suspension;
+pub mod sweep;
 pub mod variation;
 pub mod vehicle;
 

@@ -204,7 +204,20 @@ impl TrackSection {
 #[serde(deny_unknown_fields)]
 pub struct VehicleSection {
     pub file: PathBuf,
+    /// Factors on the linear damping (`damping_n_s_m`) of the vehicle's
+    /// elements, by element-name prefix: `damping_scale = { "secondary
+    /// yaw" = 0.5 }` halves every element whose name starts with
+    /// "secondary yaw" (a study's way to vary a damper: the key
+    /// `vehicle.damping_scale.secondary yaw`). A prefix that matches no
+    /// element, or one with a nonlinear damper, is refused; a factor must
+    /// lie in [0, 100] (beyond: check the unit).
+    #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub damping_scale: std::collections::BTreeMap<String, f64>,
 }
+
+/// Largest factor of `[vehicle] damping_scale` (above it, a coefficient
+/// was given instead of a factor).
+pub const MAX_DAMPING_SCALE: f64 = 100.0;
 
 /// Contact geometry and force models.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -710,6 +723,18 @@ impl LoadedScene {
             text,
             origin,
         })
+    }
+
+    /// The scene's vehicle file, loaded and checked, with the scene's
+    /// `[vehicle] damping_scale` applied (the one way every part of `sim`
+    /// reads a scene's vehicle).
+    pub fn vehicle_file(&self) -> Result<super::vehicle::VehicleFile> {
+        let mut v = super::vehicle::VehicleFile::load(&self.path(&self.scene.vehicle.file))?;
+        if !self.scene.vehicle.damping_scale.is_empty() {
+            v.scale_damping(&self.scene.vehicle.damping_scale)
+                .context("[vehicle] damping_scale")?;
+        }
+        Ok(v)
     }
 
     /// Every file the scene reads (resolved): track tables or CSV inputs,

@@ -216,6 +216,58 @@ impl VehicleFile {
         Ok(v)
     }
 
+    /// Multiplies the linear damping of every element whose name starts
+    /// with a key of `scale` by its factor, then checks the vehicle again
+    /// ([`VehicleFile::resolve`]). Refused: a factor outside
+    /// [0, [`super::scene::MAX_DAMPING_SCALE`]], a prefix that matches no
+    /// element, a matched element with a nonlinear or series damper (its
+    /// law has no single coefficient to scale).
+    pub fn scale_damping(&mut self, scale: &std::collections::BTreeMap<String, f64>) -> Result<()> {
+        for (prefix, &factor) in scale {
+            if !(factor.is_finite() && (0.0..=super::scene::MAX_DAMPING_SCALE).contains(&factor)) {
+                bail!(
+                    "'{prefix}' = {factor}: a damping factor lies in [0, {}] (a factor, not a coefficient: check the unit)",
+                    super::scene::MAX_DAMPING_SCALE
+                );
+            }
+            let mut matched = 0;
+            for e in self
+                .elements
+                .iter_mut()
+                .filter(|e| e.name.starts_with(prefix.as_str()))
+            {
+                if [&e.damper.x, &e.damper.y, &e.damper.z]
+                    .iter()
+                    .any(|d| d.is_some())
+                    || [&e.series.x, &e.series.y, &e.series.z]
+                        .iter()
+                        .any(|d| d.is_some())
+                {
+                    bail!(
+                        "'{prefix}' matches element '{}', whose damping is nonlinear or in series: it has no single coefficient to scale",
+                        e.name
+                    );
+                }
+                for c in &mut e.damping_n_s_m {
+                    *c *= factor;
+                }
+                matched += 1;
+            }
+            if matched == 0 {
+                bail!(
+                    "'{prefix}' matches no element of the vehicle '{}' (element names: {})",
+                    self.name,
+                    self.elements
+                        .iter()
+                        .map(|e| e.name.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                );
+            }
+        }
+        self.resolve()
+    }
+
     /// Checks every rule ([`VehicleFile::validate`]) and keeps the
     /// resolved preloads ([`VehicleFile::element_preloads_n`]).
     pub fn resolve(&mut self) -> Result<()> {

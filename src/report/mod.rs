@@ -9,6 +9,7 @@ pub mod memory;
 pub mod run_files;
 pub mod run_plots;
 pub mod run_text;
+pub mod sweep;
 pub mod tradeoff;
 
 use std::path::Path;

@@ -64,7 +64,7 @@ impl Session {
         let ls = plan.apply(scene);
         let s = &ls.scene;
         let (track, track_source) = track::load_track(&ls).context("track tables")?;
-        let vehicle_file = VehicleFile::load(&ls.path(&s.vehicle.file))?;
+        let vehicle_file = ls.vehicle_file()?;
         let (mut vehicle, warnings) = vehicle::vehicle_model(
             &vehicle_file,
             &track,

@@ -177,17 +177,7 @@ pub fn damping_ratio(rate_1_s: f64, frequency_hz: f64) -> f64 {
     -rate_1_s / rate_1_s.hypot(omega)
 }
 
-crate::config::choices::choice! {
-    /// How a critical speed is found (`--method`; module docs).
-    CriticalSpeedMethod {
-        /// Growth rates of runs at many speeds, bracketed to zero.
-        Time = "time",
-        /// The speed ramped down from a hunting cycle until it dies out.
-        Ramp = "ramp",
-        /// Eigenvalues of the linearised centred run.
-        Linear = "linear",
-    }
-}
+pub use crate::config::choices::CriticalSpeedMethod;
 
 /// The critical speed of one law by one method.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -487,7 +477,7 @@ pub fn time_domain(
 pub fn hunting_mode(scene: &LoadedScene, law: CreepLawName, v: f64) -> Result<Option<Mode>> {
     let s = scene.varied(&[Variation::Speed(v), Variation::CreepLaw(law)])?;
     let (track, _) = crate::session::track::load_track(&s)?;
-    let vfile = crate::config::vehicle::VehicleFile::load(&s.path(&s.scene.vehicle.file))?;
+    let vfile = s.vehicle_file()?;
     // With `track.keep_longest_stretch` the profiles' warnings are those
     // every run of the scene reports in its summary.
     let (vehicle, _) = crate::session::vehicle::vehicle_model(

@@ -10,4 +10,5 @@ pub mod cross_code;
 pub mod cycle_death;
 pub mod run_difference;
 pub mod step_dwell;
+pub mod sweep;
 pub mod tradeoff;

@@ -54,7 +54,32 @@ pub struct ArcSummary {
     pub end_s_m: f64,
     /// + left-hand curve (m).
     pub radius_m: f64,
+    /// Applied cant of the arc as a height over the cant base e0,
+    /// + raising the outer rail (mm): the track's mean cant angle φ over
+    /// the arc, D = e0 · sin|φ| signed by whether it leans into the curve
+    /// (docs/reference/01-units-frames.md §1.5). NaN without track tables.
+    pub cant_mm: f64,
+    /// Cant deficiency at the leading wheelset's mean speed V over the
+    /// arc (mm): I = e0 · V²/(g |R|) − D (EN 13803; + under-canted, the
+    /// vehicle pushed outwards). NaN without a speed or a cant.
+    pub cant_deficiency_mm: f64,
     pub wheelsets: Vec<ArcWheelset>,
+}
+
+/// Standard gravity (m/s²), for the cant deficiency.
+const G_M_S2: f64 = 9.806_65;
+
+/// The applied cant D (mm, + raising the outer rail) of an arc of radius
+/// `radius_m` (+ left) with mean cant angle `cant_rad` (+ left rail up)
+/// over cant base `e0_m` (m): a left-hand curve's outer rail is the right
+/// one, raised by a negative cant.
+pub fn applied_cant_mm(radius_m: f64, cant_rad: f64, e0_m: f64) -> f64 {
+    -radius_m.signum() * e0_m * cant_rad.sin() * 1e3
+}
+
+/// The cant deficiency I = e0 V²/(g |R|) − D (mm) at speed `speed_m_s`.
+pub fn cant_deficiency_mm(radius_m: f64, applied_cant_mm: f64, e0_m: f64, speed_m_s: f64) -> f64 {
+    e0_m * speed_m_s * speed_m_s / (G_M_S2 * radius_m.abs()) * 1e3 - applied_cant_mm
 }
 
 /// A quantity's value at sample `i` (None: no value there).
@@ -131,19 +156,48 @@ pub fn arc_wheelset(w: &WheelsetSeries, from_m: f64, to_m: f64) -> ArcWheelset {
 }
 
 /// Every arc of `elements` that some wheelset's samples reach, with the
-/// quasi-static values of every wheelset.
-pub fn arc_summaries(wheelsets: &[WheelsetSeries], elements: &[TrackElement]) -> Vec<ArcSummary> {
+/// quasi-static values of every wheelset; `cant` gives the track's cant
+/// angle (rad) at a distance s (m) and `e0_m` the cant base (m).
+pub fn arc_summaries(
+    wheelsets: &[WheelsetSeries],
+    elements: &[TrackElement],
+    cant: &dyn Fn(f64) -> Option<f64>,
+    e0_m: f64,
+) -> Vec<ArcSummary> {
     elements
         .iter()
         .filter(|e| e.kind == ElementKind::Arc)
-        .map(|e| ArcSummary {
-            start_s_m: e.start_s_m,
-            end_s_m: e.end_s_m,
-            radius_m: e.radius_m.unwrap_or(f64::NAN),
-            wheelsets: wheelsets
+        .map(|e| {
+            let radius_m = e.radius_m.unwrap_or(f64::NAN);
+            let ws: Vec<ArcWheelset> = wheelsets
                 .iter()
                 .map(|w| arc_wheelset(w, e.start_s_m, e.end_s_m))
-                .collect(),
+                .collect();
+            // Mean cant over the arc, from 21 points.
+            let angles: Vec<f64> = (0..=20)
+                .filter_map(|k| cant(e.start_s_m + (e.end_s_m - e.start_s_m) * k as f64 / 20.0))
+                .collect();
+            let cant_mm = if angles.is_empty() {
+                f64::NAN
+            } else {
+                applied_cant_mm(
+                    radius_m,
+                    angles.iter().sum::<f64>() / angles.len() as f64,
+                    e0_m,
+                )
+            };
+            let speed = ws
+                .first()
+                .and_then(|w| w.quantities.iter().find(|q| q.quantity == "speed"))
+                .map_or(f64::NAN, |q| q.quasi_static.unwrap_or(f64::NAN));
+            ArcSummary {
+                start_s_m: e.start_s_m,
+                end_s_m: e.end_s_m,
+                radius_m,
+                cant_mm,
+                cant_deficiency_mm: cant_deficiency_mm(radius_m, cant_mm, e0_m, speed),
+                wheelsets: ws,
+            }
         })
         .filter(|a| a.wheelsets.iter().any(|w| w.covered_m > 0.0))
         .collect()
@@ -152,6 +206,21 @@ pub fn arc_summaries(wheelsets: &[WheelsetSeries], elements: &[TrackElement]) ->
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn cant_deficiency_of_a_canted_left_curve() {
+        // R 250 m to the left, 150 mm of cant on e0 = 1.5 m (right rail
+        // up: φ = −asin(0.1)); at 20 m/s the balancing cant is
+        // 1500 · 400/(9.80665 · 250) = 244.7 mm, so I = 94.7 mm.
+        let d = applied_cant_mm(250.0, -(0.1f64).asin(), 1.5);
+        assert!((d - 150.0).abs() < 1e-9, "{d}");
+        let i = cant_deficiency_mm(250.0, d, 1.5, 20.0);
+        assert!((i - 94.735).abs() < 1e-3, "{i}");
+        // The same curve to the right with the left rail raised.
+        assert!((applied_cant_mm(-250.0, (0.1f64).asin(), 1.5) - 150.0).abs() < 1e-9);
+        // A cant leaning the wrong way counts negative.
+        assert!((applied_cant_mm(250.0, (0.1f64).asin(), 1.5) + 150.0).abs() < 1e-9);
+    }
 
     #[test]
     fn quasi_static_values_are_taken_over_the_arc_only() {
@@ -200,12 +269,12 @@ mod tests {
             mean_curvature_1_m: 1e-3,
             radius_m: Some(1e3),
         };
-        assert!(arc_summaries(&[w.clone()], &[e]).is_empty());
+        assert!(arc_summaries(&[w.clone()], &[e], &|_| None, 1.5).is_empty());
         let e = TrackElement {
             start_s_m: 40.0,
             end_s_m: 80.0,
             ..e
         };
-        assert_eq!(arc_summaries(&[w], &[e]).len(), 1);
+        assert_eq!(arc_summaries(&[w], &[e], &|_| None, 1.5).len(), 1);
     }
 }

@@ -51,7 +51,13 @@ impl CurvingSummary {
                 ElementSource::DesignFile,
             )
         };
-        let arcs = arcs::arc_summaries(&results.wheelsets, &track_elements);
+        let cant = |s_m: f64| track.centerline.at(s_m).ok().map(|p| p.cant_rad);
+        let arcs = arcs::arc_summaries(
+            &results.wheelsets,
+            &track_elements,
+            &cant,
+            track.meta.cant_base_m,
+        );
         Self {
             track_elements,
             track_elements_source,

@@ -83,8 +83,16 @@ pub fn curving_text(c: &CurvingSummary) -> String {
 }
 
 fn arc_text(a: &ArcSummary) -> String {
+    let cant = if a.cant_mm.is_finite() && a.cant_deficiency_mm.is_finite() {
+        format!(
+            ", cant {:.0} mm, cant deficiency {:.0} mm",
+            a.cant_mm, a.cant_deficiency_mm
+        )
+    } else {
+        String::new()
+    };
     let mut t = format!(
-        "  arc {:.1}–{:.1} m (R {:.0} m), quasi-static (50 %) / extreme 2 m mean (0.15 or 99.85 %):\n",
+        "  arc {:.1}–{:.1} m (R {:.0} m{cant}), quasi-static (50 %) / extreme 2 m mean (0.15 or 99.85 %):\n",
         a.start_s_m, a.end_s_m, a.radius_m
     );
     for w in &a.wheelsets {
@@ -132,6 +140,8 @@ mod tests {
             start_s_m: 107.1,
             end_s_m: 263.0,
             radius_m: 300.0,
+            cant_mm: f64::NAN,
+            cant_deficiency_mm: f64::NAN,
             wheelsets: vec![ArcWheelset {
                 name: "front".into(),
                 covered_m: 155.8,

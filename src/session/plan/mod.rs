@@ -60,7 +60,6 @@ use anyhow::Result;
 use serde::Serialize;
 
 use crate::config::scene::{ContactMethodKind, FlangeMode, LoadedScene, PlanItem, PlanMode};
-use crate::config::vehicle::VehicleFile;
 
 pub use facts::{
     DYNAMICS_LOOKAHEAD_M, FlangeFacts, RANGE_MARGIN_M, STRAIGHT_CURVATURE_1_M, TrackFacts,
@@ -181,7 +180,7 @@ pub fn plan(ls: &LoadedScene) -> Result<Plan> {
     let planner_chooses = |item: PlanItem, entry: &str| -> bool {
         mode == PlanMode::Required && (scene.plan.chooses(item) || !explicit.contains(entry))
     };
-    let vfile = VehicleFile::load(&ls.path(&scene.vehicle.file))?;
+    let vfile = ls.vehicle_file()?;
     let wanted = required_range_m(ls, &vfile);
     let track = facts::track_facts(ls, wanted)?;
     let mut decisions = Vec::new();

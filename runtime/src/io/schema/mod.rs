@@ -47,6 +47,7 @@ mod imported;
 mod results_bodies;
 mod results_file;
 mod results_writer;
+mod study_table;
 mod track;
 
 pub use imported::{read_imported_contact_table, write_imported_contact_table_file};
@@ -54,6 +55,7 @@ pub use results_file::{
     RESULTS_SCHEMA, RESULTS_SCHEMA_VERSION, RESULTS_TOOL, read_results, write_results,
 };
 pub use results_writer::{RESULTS_CHUNK_SAMPLES, ResultsWriter};
+pub use study_table::{StudyColumn, read_study_table, write_study_table};
 pub use track::{
     TableFileWriter, read_contact_table, read_provenance, read_track, read_track_meta,
     write_contact_table_file, write_track_file,
