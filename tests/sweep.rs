@@ -361,3 +361,27 @@ fn slurm_scripts_run_each_shard_and_merge_after() {
     ]);
     assert!(!o.status.success());
 }
+
+#[test]
+fn shipped_studies_check_every_variant() {
+    // `sim sweep slurm` loads a study and checks every variant's scene
+    // before writing its scripts: the shipped studies pass.
+    let dir = scratch("sweep_shipped");
+    for name in [
+        "bogie_friction_critical_speed.toml",
+        "cooperrider_yaw_damper.toml",
+        "bogie_r250_curving.toml",
+    ] {
+        let study = shipped(&format!("sweeps/{name}"));
+        let out = dir.join(name);
+        let o = ok(&sweep(&[
+            "slurm",
+            study.to_str().unwrap(),
+            "--shards",
+            "2",
+            "--out",
+            out.to_str().unwrap(),
+        ]));
+        assert!(o.contains("variants in 2 array tasks"), "{name}: {o}");
+    }
+}

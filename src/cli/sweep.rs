@@ -222,8 +222,26 @@ fn merge_command(dir: &Path, json: bool) -> Result<()> {
         )
     })?;
     // The study file names missing variants' parameters and holds the
-    // plots' settings; a folder copied without it still merges.
-    let study = Study::load(Path::new(&manifest.study_file)).ok();
+    // plots' settings; a folder copied without it, or whose study file
+    // has changed since, still merges (without plots, and said so).
+    let study = match Study::load(Path::new(&manifest.study_file)) {
+        Ok(s) if s.fingerprint == manifest.fingerprint => Some(s),
+        Ok(_) => {
+            eprintln!(
+                "warning: {} has changed since the study ran: merged without its plots",
+                manifest.study_file
+            );
+            None
+        }
+        Err(e) => {
+            eprintln!(
+                "warning: the study file {} cannot be read ({}): merged without its plots",
+                manifest.study_file,
+                crate::error_text::chain_text(&e)
+            );
+            None
+        }
+    };
     merged(&dir, study.as_ref(), json)
 }
 

@@ -481,6 +481,36 @@ impl VehicleFile {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn damping_scale_multiplies_the_matched_elements_and_refuses_what_it_cannot() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tables/vehicles/cooperrider_car.toml");
+        let original = VehicleFile::load(&path).unwrap();
+        let mut v = original.clone();
+        let scale = |k: &str, f: f64| std::collections::BTreeMap::from([(k.to_string(), f)]);
+        v.scale_damping(&scale("secondary yaw", 2.0)).unwrap();
+        let mut scaled = 0;
+        for (a, b) in original.elements.iter().zip(&v.elements) {
+            if a.name.starts_with("secondary yaw") {
+                scaled += 1;
+                assert_eq!(b.damping_n_s_m[0], 2.0 * a.damping_n_s_m[0]);
+            } else {
+                assert_eq!(a.damping_n_s_m, b.damping_n_s_m, "{}", a.name);
+            }
+        }
+        assert_eq!(scaled, 4);
+        let e = original
+            .clone()
+            .scale_damping(&scale("yaw damper", 2.0))
+            .unwrap_err();
+        assert!(format!("{e:#}").contains("matches no element"), "{e:#}");
+        let e = original
+            .clone()
+            .scale_damping(&scale("secondary yaw", 1.66669e5))
+            .unwrap_err();
+        assert!(format!("{e:#}").contains("check the unit"), "{e:#}");
+    }
     use crate::config::statics::PreloadMode;
 
     const WHEELSET: &str = r#"

@@ -21,17 +21,17 @@ pub fn write_sweep_plots(
     rows: &[Row],
 ) -> Result<Vec<PathBuf>> {
     // The x of a row: a varied key's value, or a figure.
-    let x_of: Box<dyn Fn(&Row) -> Option<f64>> =
-        if let Some(c) = layout.keys.iter().position(|k| *k == spec.x) {
-            Box::new(move |r: &Row| r.params[c].parse::<f64>().ok())
-        } else {
-            let j = layout
-                .figures
-                .iter()
-                .position(|f| *f == spec.x)
-                .with_context(|| format!("[plot] x = '{}' is not a column of the table", spec.x))?;
-            Box::new(move |r: &Row| r.figures[j])
-        };
+    type Abscissa = Box<dyn Fn(&Row) -> Option<f64>>;
+    let x_of: Abscissa = if let Some(c) = layout.keys.iter().position(|k| *k == spec.x) {
+        Box::new(move |r: &Row| r.params[c].parse::<f64>().ok())
+    } else {
+        let j = layout
+            .figures
+            .iter()
+            .position(|f| *f == spec.x)
+            .with_context(|| format!("[plot] x = '{}' is not a column of the table", spec.x))?;
+        Box::new(move |r: &Row| r.figures[j])
+    };
     let line_col =
         match &spec.lines {
             Some(l) => {

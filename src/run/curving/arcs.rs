@@ -55,9 +55,10 @@ pub struct ArcSummary {
     /// + left-hand curve (m).
     pub radius_m: f64,
     /// Applied cant of the arc as a height over the cant base e0,
-    /// + raising the outer rail (mm): the track's mean cant angle φ over
-    /// the arc, D = e0 · sin|φ| signed by whether it leans into the curve
-    /// (docs/reference/01-units-frames.md §1.5). NaN without track tables.
+    /// positive raising the outer rail (mm): from the track's mean cant
+    /// angle φ over the arc, D = e0 · sin|φ|, signed by whether it leans
+    /// into the curve (docs/reference/01-units-frames.md §1.5); NaN
+    /// without track tables.
     pub cant_mm: f64,
     /// Cant deficiency at the leading wheelset's mean speed V over the
     /// arc (mm): I = e0 · V²/(g |R|) − D (EN 13803; + under-canted, the
