@@ -262,77 +262,43 @@ figures = ["wheelsets.0.peak_lateral_mm", "steps"]
     p
 }
 
-#[test]
-fn a_study_on_a_real_single_node_slurm_cluster() {
-    if let Some(why) = missing_prerequisite() {
-        let banner = "#".repeat(78);
-        if std::env::var_os("RAILSIM_REQUIRE_SLURM").is_some() {
-            panic!("RAILSIM_REQUIRE_SLURM is set but the Slurm test cannot run: {why}");
-        }
-        eprintln!(
-            "\n{banner}\n# NOT RUN: the real-Slurm test of `sim sweep slurm` did not run: {why}.\n# CI runs it (.ci/run installs slurm-wlm and munge and runs as root).\n{banner}\n"
-        );
-        return;
+/// Why the test cannot run, said loudly (or, with RAILSIM_REQUIRE_SLURM,
+/// a failure); `None` when it can.
+fn skip_reason() -> Option<String> {
+    let why = missing_prerequisite()?;
+    let banner = "#".repeat(78);
+    if std::env::var_os("RAILSIM_REQUIRE_SLURM").is_some() {
+        panic!("RAILSIM_REQUIRE_SLURM is set but the Slurm test cannot run: {why}");
     }
-    let work = scratch("slurm_cluster");
-    let tmp = tempfile::Builder::new()
-        .prefix("railsim-slurm")
-        .tempdir()
-        .expect("a temporary directory");
-    let cluster = Cluster::start(tmp.path());
-    let study = study(&work);
-    let cache = work.join("cache");
+    eprintln!("\n{banner}\n# NOT RUN: the real-Slurm test of `sim sweep slurm` did not run: {why}.\n# CI runs it (.ci/run installs slurm-wlm and munge and runs as root).\n{banner}\n");
+    Some(why)
+}
 
-    // The same study on the local cores, for the reference table.
+/// Runs `study` locally and as a `shards`-task array plus the merge job on
+/// `cluster`; checks that both tables are the same; returns the merged
+/// row count.
+fn local_and_on_the_cluster(cluster: &Cluster, study: &Path, work: &Path, shards: usize) -> usize {
+    let cache = work.join("cache");
     let local = work.join("local");
     let o = run(sim()
-        .args([
-            "sweep",
-            study.to_str().unwrap(),
-            "--out",
-            local.to_str().unwrap(),
-            "--quiet",
-        ])
+        .args(["sweep", study.to_str().unwrap(), "--out", local.to_str().unwrap(), "--quiet"])
         .env("RAILSIM_CACHE_DIR", &cache));
     assert!(o.status.success(), "local study: {}", stderr(&o));
-
-    // On the cluster: 4 array tasks and the merge job.
     let out = work.join("cluster");
     let o = run(sim()
-        .args([
-            "sweep",
-            "slurm",
-            study.to_str().unwrap(),
-            "--shards",
-            "4",
-            "--out",
-            out.to_str().unwrap(),
-            "--submit",
-        ])
+        .args(["sweep", "slurm", study.to_str().unwrap(), "--shards", &shards.to_string()])
+        .args(["--out", out.to_str().unwrap(), "--submit"])
         .env("SLURM_CONF", &cluster.conf)
         .env("RAILSIM_CACHE_DIR", &cache));
     let text = stdout(&o);
-    assert!(
-        o.status.success(),
-        "sim sweep slurm: {text}{}\n{}",
-        stderr(&o),
-        cluster.logs()
-    );
-    eprintln!("{text}");
+    assert!(o.status.success(), "sim sweep slurm: {text}{}\n{}", stderr(&o), cluster.logs());
+    eprint!("{text}");
     // "submitted: array job A (tasks 0-3), merge job M (afterok:A)"
-    let line = text
-        .lines()
-        .find(|l| l.starts_with("submitted:"))
-        .expect("submitted line");
+    let line = text.lines().find(|l| l.starts_with("submitted:")).expect("submitted line");
     let words: Vec<&str> = line.split_whitespace().collect();
-    let (array_job, merge_job) = (
-        words[3].to_string(),
-        words[8].trim_end_matches(',').to_string(),
-    );
+    let (array_job, merge_job) = (words[3].to_string(), words[8].trim_end_matches(',').to_string());
     assert!(
-        [&array_job, &merge_job]
-            .iter()
-            .all(|id| id.parse::<u64>().is_ok()),
+        [&array_job, &merge_job].iter().all(|id| id.parse::<u64>().is_ok()),
         "{line}"
     );
     let started = Instant::now();
@@ -347,8 +313,8 @@ fn a_study_on_a_real_single_node_slurm_cluster() {
             break;
         }
         assert!(
-            started.elapsed() < Duration::from_secs(600),
-            "the jobs did not finish in 10 min: {:?} {:?}\n{}",
+            started.elapsed() < Duration::from_secs(1800),
+            "the jobs did not finish in 30 min: {:?} {:?}\n{}",
             cluster.states(&array_job),
             merge,
             cluster.logs()
@@ -359,11 +325,8 @@ fn a_study_on_a_real_single_node_slurm_cluster() {
     let merge_states = cluster.states(&merge_job);
     eprintln!("array job {array_job}: {array_states:?}");
     eprintln!("merge job {merge_job}: {merge_states:?}");
-    eprintln!(
-        "jobs finished {:.1} s after submission",
-        started.elapsed().as_secs_f64()
-    );
-    assert_eq!(array_states.len(), 4, "{array_states:?}");
+    eprintln!("jobs finished {:.1} s after submission", started.elapsed().as_secs_f64());
+    assert_eq!(array_states.len(), shards, "{array_states:?}");
     assert!(
         array_states.iter().all(|s| s.ends_with("COMPLETED")),
         "{array_states:?}\n{}",
@@ -376,19 +339,58 @@ fn a_study_on_a_real_single_node_slurm_cluster() {
     );
     let merged = read_or(&out.join("table.csv"));
     let rows = merged.lines().count() - 1;
-    eprintln!(
-        "merged table: {rows} rows\n{}",
-        read_or(&out.join("slurm/merge.out"))
-    );
-    assert_eq!(rows, 8);
+    eprint!("merged table: {rows} rows; {}", read_or(&out.join("slurm/merge.out")));
     assert_eq!(
         merged,
         read_or(&local.join("table.csv")),
         "the cluster's table differs from the local run's"
     );
+    rows
+}
+
+#[test]
+fn a_study_on_a_real_single_node_slurm_cluster() {
+    if skip_reason().is_some() {
+        return;
+    }
+    let work = scratch("slurm_cluster");
+    let tmp = tempfile::Builder::new().prefix("railsim-slurm").tempdir().expect("a temporary directory");
+    let cluster = Cluster::start(tmp.path());
+    let study = study(&work);
+    assert_eq!(local_and_on_the_cluster(&cluster, &study, &work.join("small"), 4), 8);
+    // Each task ran its shard: variants I and I + 4.
     for i in 0..4 {
-        let shard = read_or(&out.join(format!("shards/shard_{i}_of_4.csv")));
-        assert_eq!(shard.lines().count(), 3, "shard {i}: {shard}");
+        let shard = read_or(&work.join(format!("small/cluster/shards/shard_{i}_of_4.csv")));
+        let ids: Vec<&str> = shard.lines().skip(1).map(|l| l.split(',').next().unwrap()).collect();
+        assert_eq!(ids.len(), 2, "shard {i}: {shard}");
+        assert!(ids.iter().all(|v| v.parse::<usize>().unwrap() % 4 == i), "shard {i}: {shard}");
+    }
+    // A shipped study (the cheapest: 15 runs of the Cooperrider car).
+    let shipped_study = shipped("sweeps/cooperrider_yaw_damper.toml");
+    assert_eq!(local_and_on_the_cluster(&cluster, &shipped_study, &work.join("yaw_damper"), 4), 15);
+    drop(cluster);
+}
+
+/// Every shipped study on the cluster (minutes: `cargo test --release
+/// --test slurm_cluster -- --ignored --nocapture`).
+#[test]
+#[ignore]
+fn every_shipped_study_on_a_real_single_node_slurm_cluster() {
+    if skip_reason().is_some() {
+        return;
+    }
+    let work = scratch("slurm_cluster_shipped");
+    let tmp = tempfile::Builder::new().prefix("railsim-slurm").tempdir().expect("a temporary directory");
+    let cluster = Cluster::start(tmp.path());
+    for (name, rows) in [
+        ("bogie_friction_critical_speed", 12),
+        ("cooperrider_yaw_damper", 15),
+        ("bogie_r250_curving", 14),
+    ] {
+        let study = shipped(&format!("sweeps/{name}.toml"));
+        let started = Instant::now();
+        assert_eq!(local_and_on_the_cluster(&cluster, &study, &work.join(name), 4), rows);
+        eprintln!("{name}: local run and cluster run in {:.1} s\n", started.elapsed().as_secs_f64());
     }
     drop(cluster);
 }

@@ -114,3 +114,15 @@ def test_critical_speed_equals_the_cli(sim, tmp_path):
     assert 20.0 < ours[0]["speed_m_s"] < 120.0
     with pytest.raises(ValueError, match="method"):
         railsim.critical_speed(SCENES / "bogie_straight.toml", method=["guess"])
+
+
+def test_to_xarray_keeps_every_series_with_its_unit():
+    xr = pytest.importorskip("xarray", reason="pip install xarray (the [test] extra has it)")
+    r = railsim.run(SCENES / "wheelset_straight.toml", set={"run.distance_m": 3}, progress=False)
+    ds = r.to_xarray()
+    assert isinstance(ds, xr.Dataset)
+    assert ds.sizes["time_s"] == len(r)
+    assert set(ds.data_vars) == set(r.keys()) - {"time_s"}
+    np.testing.assert_array_equal(ds["wheelset_0/lateral_m"].values, r["wheelset_0/lateral_m"])
+    assert ds["wheelset_0/lateral_m"].attrs["units"] == "m"
+    assert ds.attrs["creep_law"] == "polach"

@@ -9,6 +9,7 @@ use hdf5::types::VarLenUnicode;
 
 use super::SchemaError;
 use super::attrs;
+use super::results_file::hdf5_err;
 use crate::io::AtomicFile;
 
 /// One column of a study table.
@@ -49,13 +50,7 @@ pub fn write_study_table(
         path: path.to_path_buf(),
         source,
     })?;
-    let err = |action: String| {
-        move |source| SchemaError::Hdf5 {
-            path: path.to_path_buf(),
-            action,
-            source,
-        }
-    };
+    let err = |action: String| hdf5_err(path, action);
     attrs::write_str(path, &file, "schema", "railsim-study-table")?;
     let names: Vec<&str> = columns.iter().map(|(n, _)| n.as_str()).collect();
     attrs::write_str(path, &file, "columns", &names.join(","))?;
@@ -93,13 +88,7 @@ pub fn read_study_table(path: &Path) -> Result<Vec<(String, StudyColumn)>, Schem
         path: path.to_path_buf(),
         source,
     })?;
-    let err = |action: String| {
-        move |source| SchemaError::Hdf5 {
-            path: path.to_path_buf(),
-            action,
-            source,
-        }
-    };
+    let err = |action: String| hdf5_err(path, action);
     let names = attrs::read_str(path, &file, "/", "columns")?;
     let mut out = Vec::new();
     for name in names.split(',').filter(|n| !n.is_empty()) {
