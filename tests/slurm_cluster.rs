@@ -270,7 +270,9 @@ fn skip_reason() -> Option<String> {
     if std::env::var_os("RAILSIM_REQUIRE_SLURM").is_some() {
         panic!("RAILSIM_REQUIRE_SLURM is set but the Slurm test cannot run: {why}");
     }
-    eprintln!("\n{banner}\n# NOT RUN: the real-Slurm test of `sim sweep slurm` did not run: {why}.\n# CI runs it (.ci/run installs slurm-wlm and munge and runs as root).\n{banner}\n");
+    eprintln!(
+        "\n{banner}\n# NOT RUN: the real-Slurm test of `sim sweep slurm` did not run: {why}.\n# CI runs it (.ci/run installs slurm-wlm and munge and runs as root).\n{banner}\n"
+    );
     Some(why)
 }
 
@@ -281,24 +283,49 @@ fn local_and_on_the_cluster(cluster: &Cluster, study: &Path, work: &Path, shards
     let cache = work.join("cache");
     let local = work.join("local");
     let o = run(sim()
-        .args(["sweep", study.to_str().unwrap(), "--out", local.to_str().unwrap(), "--quiet"])
+        .args([
+            "sweep",
+            study.to_str().unwrap(),
+            "--out",
+            local.to_str().unwrap(),
+            "--quiet",
+        ])
         .env("RAILSIM_CACHE_DIR", &cache));
     assert!(o.status.success(), "local study: {}", stderr(&o));
     let out = work.join("cluster");
     let o = run(sim()
-        .args(["sweep", "slurm", study.to_str().unwrap(), "--shards", &shards.to_string()])
+        .args([
+            "sweep",
+            "slurm",
+            study.to_str().unwrap(),
+            "--shards",
+            &shards.to_string(),
+        ])
         .args(["--out", out.to_str().unwrap(), "--submit"])
         .env("SLURM_CONF", &cluster.conf)
         .env("RAILSIM_CACHE_DIR", &cache));
     let text = stdout(&o);
-    assert!(o.status.success(), "sim sweep slurm: {text}{}\n{}", stderr(&o), cluster.logs());
+    assert!(
+        o.status.success(),
+        "sim sweep slurm: {text}{}\n{}",
+        stderr(&o),
+        cluster.logs()
+    );
     eprint!("{text}");
     // "submitted: array job A (tasks 0-3), merge job M (afterok:A)"
-    let line = text.lines().find(|l| l.starts_with("submitted:")).expect("submitted line");
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("submitted:"))
+        .expect("submitted line");
     let words: Vec<&str> = line.split_whitespace().collect();
-    let (array_job, merge_job) = (words[3].to_string(), words[8].trim_end_matches(',').to_string());
+    let (array_job, merge_job) = (
+        words[3].to_string(),
+        words[8].trim_end_matches(',').to_string(),
+    );
     assert!(
-        [&array_job, &merge_job].iter().all(|id| id.parse::<u64>().is_ok()),
+        [&array_job, &merge_job]
+            .iter()
+            .all(|id| id.parse::<u64>().is_ok()),
         "{line}"
     );
     let started = Instant::now();
@@ -325,7 +352,10 @@ fn local_and_on_the_cluster(cluster: &Cluster, study: &Path, work: &Path, shards
     let merge_states = cluster.states(&merge_job);
     eprintln!("array job {array_job}: {array_states:?}");
     eprintln!("merge job {merge_job}: {merge_states:?}");
-    eprintln!("jobs finished {:.1} s after submission", started.elapsed().as_secs_f64());
+    eprintln!(
+        "jobs finished {:.1} s after submission",
+        started.elapsed().as_secs_f64()
+    );
     assert_eq!(array_states.len(), shards, "{array_states:?}");
     assert!(
         array_states.iter().all(|s| s.ends_with("COMPLETED")),
@@ -339,7 +369,10 @@ fn local_and_on_the_cluster(cluster: &Cluster, study: &Path, work: &Path, shards
     );
     let merged = read_or(&out.join("table.csv"));
     let rows = merged.lines().count() - 1;
-    eprint!("merged table: {rows} rows; {}", read_or(&out.join("slurm/merge.out")));
+    eprint!(
+        "merged table: {rows} rows; {}",
+        read_or(&out.join("slurm/merge.out"))
+    );
     assert_eq!(
         merged,
         read_or(&local.join("table.csv")),
@@ -354,20 +387,36 @@ fn a_study_on_a_real_single_node_slurm_cluster() {
         return;
     }
     let work = scratch("slurm_cluster");
-    let tmp = tempfile::Builder::new().prefix("railsim-slurm").tempdir().expect("a temporary directory");
+    let tmp = tempfile::Builder::new()
+        .prefix("railsim-slurm")
+        .tempdir()
+        .expect("a temporary directory");
     let cluster = Cluster::start(tmp.path());
     let study = study(&work);
-    assert_eq!(local_and_on_the_cluster(&cluster, &study, &work.join("small"), 4), 8);
+    assert_eq!(
+        local_and_on_the_cluster(&cluster, &study, &work.join("small"), 4),
+        8
+    );
     // Each task ran its shard: variants I and I + 4.
     for i in 0..4 {
         let shard = read_or(&work.join(format!("small/cluster/shards/shard_{i}_of_4.csv")));
-        let ids: Vec<&str> = shard.lines().skip(1).map(|l| l.split(',').next().unwrap()).collect();
+        let ids: Vec<&str> = shard
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').next().unwrap())
+            .collect();
         assert_eq!(ids.len(), 2, "shard {i}: {shard}");
-        assert!(ids.iter().all(|v| v.parse::<usize>().unwrap() % 4 == i), "shard {i}: {shard}");
+        assert!(
+            ids.iter().all(|v| v.parse::<usize>().unwrap() % 4 == i),
+            "shard {i}: {shard}"
+        );
     }
     // A shipped study (the cheapest: 15 runs of the Cooperrider car).
     let shipped_study = shipped("sweeps/cooperrider_yaw_damper.toml");
-    assert_eq!(local_and_on_the_cluster(&cluster, &shipped_study, &work.join("yaw_damper"), 4), 15);
+    assert_eq!(
+        local_and_on_the_cluster(&cluster, &shipped_study, &work.join("yaw_damper"), 4),
+        15
+    );
     drop(cluster);
 }
 
@@ -380,7 +429,10 @@ fn every_shipped_study_on_a_real_single_node_slurm_cluster() {
         return;
     }
     let work = scratch("slurm_cluster_shipped");
-    let tmp = tempfile::Builder::new().prefix("railsim-slurm").tempdir().expect("a temporary directory");
+    let tmp = tempfile::Builder::new()
+        .prefix("railsim-slurm")
+        .tempdir()
+        .expect("a temporary directory");
     let cluster = Cluster::start(tmp.path());
     for (name, rows) in [
         ("bogie_friction_critical_speed", 12),
@@ -389,8 +441,14 @@ fn every_shipped_study_on_a_real_single_node_slurm_cluster() {
     ] {
         let study = shipped(&format!("sweeps/{name}.toml"));
         let started = Instant::now();
-        assert_eq!(local_and_on_the_cluster(&cluster, &study, &work.join(name), 4), rows);
-        eprintln!("{name}: local run and cluster run in {:.1} s\n", started.elapsed().as_secs_f64());
+        assert_eq!(
+            local_and_on_the_cluster(&cluster, &study, &work.join(name), 4),
+            rows
+        );
+        eprintln!(
+            "{name}: local run and cluster run in {:.1} s\n",
+            started.elapsed().as_secs_f64()
+        );
     }
     drop(cluster);
 }
