@@ -385,3 +385,67 @@ fn shipped_studies_check_every_variant() {
         assert!(o.contains("variants in 2 array tasks"), "{name}: {o}");
     }
 }
+
+#[test]
+fn tradeoff_points_against_one_reference() {
+    // The RK4 step against a 0.05 ms reference: the error grows with the
+    // step, the steps fall.
+    let dir = scratch("sweep_tradeoff");
+    let scene = shipped("scenes/wheelset_straight.toml");
+    let study = dir.join("tradeoff.toml");
+    std::fs::write(
+        &study,
+        format!(
+            r#"title = "RK4 step against a fine reference"
+scene = "{}"
+[set]
+"run.distance_m" = 4.0
+"run.integrator" = "rk4"
+[[vary]]
+key = "run.step_s"
+values = [1e-4, 2e-4, 4e-4]
+[compute]
+kind = "tradeoff"
+reference = {{ "run.step_s" = 5e-5 }}
+"#,
+            scene.display()
+        ),
+    )
+    .unwrap();
+    let out = dir.join("out");
+    ok(&sweep(&[
+        study.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]));
+    let table = read(&out.join("table.csv"));
+    let mut lines = table.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            assert_eq!(f[col("status")], "ok", "{l}");
+            ["lateral_error_max_um", "lateral_error_rms_um", "steps"]
+                .iter()
+                .map(|c| f[col(c)].parse().unwrap())
+                .collect()
+        })
+        .collect();
+    assert_eq!(rows.len(), 3);
+    for r in &rows {
+        assert!(
+            r[0] >= r[1] && r[0] < 1.0,
+            "RK4 at ≤ 0.4 ms is within 1 µm: {r:?}"
+        );
+    }
+    assert!(
+        rows[0][0] < rows[2][0],
+        "the error grows with the step: {rows:?}"
+    );
+    assert!(
+        rows[0][2] > rows[1][2] && rows[1][2] > rows[2][2],
+        "{rows:?}"
+    );
+}

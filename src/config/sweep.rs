@@ -131,7 +131,35 @@ pub enum Compute {
         #[serde(default = "default_tol")]
         tol_m_s: f64,
     },
+    /// A point of the speed/accuracy trade (`sim tradeoff`): the variant's
+    /// run against a fine reference run — the variant's scene with the
+    /// `reference` overrides (e.g. RK4 at 0.1 ms), computed once per
+    /// distinct reference scene. Figures: `lateral_error_max_um`,
+    /// `lateral_error_rms_um` (leading wheelset, at equal time),
+    /// `frequency_error_hz`, `wall_time_s`, `real_time_factor`, `steps`,
+    /// `rhs_evaluations` (the timings differ from run to run).
+    Tradeoff {
+        reference: BTreeMap<String, toml::Value>,
+        /// Start transient left out of the frequency (s).
+        #[serde(default = "default_skip")]
+        skip_s: f64,
+    },
 }
+
+fn default_skip() -> f64 {
+    1.0
+}
+
+/// The figures of a tradeoff variant, in table order.
+pub const TRADEOFF_FIGURES: [&str; 7] = [
+    "lateral_error_max_um",
+    "lateral_error_rms_um",
+    "frequency_error_hz",
+    "wall_time_s",
+    "real_time_factor",
+    "steps",
+    "rhs_evaluations",
+];
 
 fn default_min() -> f64 {
     10.0
@@ -160,6 +188,7 @@ impl Compute {
                 .iter()
                 .map(|s| s.to_string())
                 .collect(),
+            Compute::Tradeoff { .. } => TRADEOFF_FIGURES.iter().map(|s| s.to_string()).collect(),
         }
     }
 }
@@ -379,6 +408,16 @@ impl SweepFile {
                 ensure!(
                     *tol_m_s > 0.0 && *tol_m_s < max_m_s - min_m_s,
                     "[compute] critical_speed: need 0 < tol_m_s < max_m_s - min_m_s"
+                );
+            }
+            Compute::Tradeoff { reference, skip_s } => {
+                ensure!(
+                    !reference.is_empty(),
+                    "[compute] tradeoff: give the reference's overrides, e.g. reference = {{ \"run.integrator\" = \"rk4\", \"run.step_s\" = 1e-4 }}"
+                );
+                ensure!(
+                    skip_s.is_finite() && *skip_s >= 0.0,
+                    "[compute] tradeoff: skip_s must be >= 0"
                 );
             }
         }

@@ -14,6 +14,46 @@ use crate::config::sweep::{Compute, Keep};
 use crate::error_text::chain_text;
 use crate::studies::critical_speed::{CriticalSpeedSettings, study as critical_speed_study};
 
+/// The reference runs of a tradeoff study, by scene text: each computed
+/// once per shard.
+#[derive(Default)]
+pub struct References {
+    runs: std::sync::Mutex<
+        std::collections::HashMap<
+            String,
+            Arc<std::sync::OnceLock<Result<Arc<runtime::results::RunResults>, String>>>,
+        >,
+    >,
+}
+
+impl References {
+    /// The results of `scene` run once (the first caller runs it; the
+    /// others wait for it).
+    fn get(
+        &self,
+        scene: &crate::config::scene::LoadedScene,
+        stop: &Arc<AtomicBool>,
+    ) -> Result<Arc<runtime::results::RunResults>> {
+        let cell = {
+            let mut m = self
+                .runs
+                .lock()
+                .map_err(|_| anyhow::anyhow!("a worker thread panicked"))?;
+            m.entry(scene.text.clone()).or_default().clone()
+        };
+        let r = cell.get_or_init(|| {
+            crate::run::run_scene(scene, &mut |_| {}, Some(stop.clone()))
+                .and_then(|o| {
+                    let (results, summary) = o.into_parts("the reference run");
+                    summary.map(|_| Arc::new(results))
+                })
+                .map_err(|e| chain_text(&e))
+        });
+        r.clone()
+            .map_err(|e| anyhow::anyhow!("the reference run: {e}"))
+    }
+}
+
 /// What a computation left: a row, or nothing when it was interrupted.
 pub enum Outcome {
     Row(Row),
@@ -49,7 +89,13 @@ pub fn figure(summary: &serde_json::Value, path: &str) -> Option<f64> {
 
 /// Computes variant `v` of `study`; its kept results go under `dir` (the
 /// study folder).
-pub fn compute(study: &Study, v: &Variant, dir: &Path, stop: &Arc<AtomicBool>) -> Outcome {
+pub fn compute(
+    study: &Study,
+    v: &Variant,
+    dir: &Path,
+    stop: &Arc<AtomicBool>,
+    references: &References,
+) -> Outcome {
     let mut row = Row {
         variant: v.index,
         params: v.params.iter().map(|(_, x)| value_text(x)).collect(),
@@ -74,6 +120,9 @@ pub fn compute(study: &Study, v: &Variant, dir: &Path, stop: &Arc<AtomicBool>) -
             stop,
             &mut row,
         ),
+        Compute::Tradeoff { reference, skip_s } => {
+            tradeoff(study, v, reference, *skip_s, references, stop, &mut row)
+        }
     };
     if stop.load(Ordering::Relaxed) {
         return Outcome::Interrupted;
@@ -158,6 +207,38 @@ fn critical_speed(
         r.bracket_m_s.map(|b| b.1),
     ];
     row.message = r.note.clone().unwrap_or_default();
+    Ok(())
+}
+
+fn tradeoff(
+    study: &Study,
+    v: &Variant,
+    reference: &std::collections::BTreeMap<String, toml::Value>,
+    skip_s: f64,
+    references: &References,
+    stop: &Arc<AtomicBool>,
+    row: &mut Row,
+) -> Result<()> {
+    let scene = study.scene_of(v)?;
+    let fine: Vec<crate::config::Variation> = reference
+        .iter()
+        .map(|(k, x)| crate::config::Variation::Set(k.clone(), x.clone()))
+        .collect();
+    let reference_scene = scene.varied(&fine).context("the reference's overrides")?;
+    let reference_results = references.get(&reference_scene, stop)?;
+    let outcome = crate::run::run_scene(&scene, &mut |_| {}, Some(stop.clone()))?;
+    let (results, summary) = outcome.into_parts("the variant's results");
+    let summary = summary?;
+    let e = crate::studies::tradeoff::compare(&reference_results, &results, skip_s)?;
+    row.figures = vec![
+        Some(e.lateral_max_m * 1e6),
+        Some(e.lateral_rms_m * 1e6),
+        e.frequency_hz,
+        Some(summary.wall_time_s),
+        Some(summary.real_time_factor),
+        Some(summary.steps as f64),
+        Some(summary.rhs_evaluations as f64),
+    ];
     Ok(())
 }
 

@@ -14,7 +14,7 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use rayon::prelude::*;
 
-use super::compute::{Outcome, compute};
+use super::compute::{Outcome, References, compute};
 use super::table::{self, Row, Status};
 use super::{Dir, Shard, Study};
 
@@ -141,6 +141,7 @@ pub fn run_shard(
         .num_threads(jobs.max(1))
         .build()
         .context("starting the worker threads")?;
+    let references = References::default();
     progress(Progress {
         done: 0,
         total,
@@ -152,7 +153,7 @@ pub fn run_shard(
                 return;
             }
             let t0 = Instant::now();
-            let Outcome::Row(row) = compute(study, v, &dir.root, &stop) else {
+            let Outcome::Row(row) = compute(study, v, &dir.root, &stop, &references) else {
                 return;
             };
             let wall_s = t0.elapsed().as_secs_f64();
