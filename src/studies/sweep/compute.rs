@@ -14,16 +14,15 @@ use crate::config::sweep::{Compute, Keep};
 use crate::error_text::chain_text;
 use crate::studies::critical_speed::{CriticalSpeedSettings, study as critical_speed_study};
 
+/// A reference run, computed by the first variant that needs it (its
+/// error as text, shared by every variant).
+type ReferenceRun = Arc<std::sync::OnceLock<Result<Arc<runtime::results::RunResults>, String>>>;
+
 /// The reference runs of a tradeoff study, by scene text: each computed
 /// once per shard.
 #[derive(Default)]
 pub struct References {
-    runs: std::sync::Mutex<
-        std::collections::HashMap<
-            String,
-            Arc<std::sync::OnceLock<Result<Arc<runtime::results::RunResults>, String>>>,
-        >,
-    >,
+    runs: std::sync::Mutex<std::collections::HashMap<String, ReferenceRun>>,
 }
 
 impl References {
