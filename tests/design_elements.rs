@@ -130,7 +130,7 @@ fn a_design_scene_reports_the_design_arc() {
     let text = stdout(&o);
     for needle in [
         "track elements (design file): straight 0.0–200.0 m; transition 200.0–280.0 m; arc 280.0–580.0 m (R -600 m);",
-        "arc 280.0–580.0 m (R -600 m), quasi-static",
+        "arc 280.0–580.0 m (R -600 m, cant 120 mm, cant deficiency ",
     ] {
         assert!(text.contains(needle), "{needle} missing:\n{text}");
     }

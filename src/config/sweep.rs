@@ -90,9 +90,9 @@ pub struct RandomDraws {
     pub params: Vec<RandomParam>,
 }
 
-/// A randomly drawn scene key.
+/// A randomly drawn scene key. (Unknown fields are refused by
+/// [`Distribution`]: serde cannot deny them on a struct that flattens.)
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub struct RandomParam {
     pub key: String,
     #[serde(flatten)]
