@@ -546,5 +546,14 @@ mod tests {
         )
         .unwrap_err();
         assert!(e.to_string().contains("guess"), "{e}");
+        // A misspelt field of a random draw is refused, not ignored.
+        let e = toml::from_str::<SweepFile>(&format!(
+            "{BASE}\n[random]\ndraws = 2\nseed = 1\n[[random.params]]\nkey = \"s\"\ndistribution = \"uniform\"\nlow = 0.0\nhgh = 1.0"
+        ))
+        .unwrap_err();
+        assert!(
+            e.to_string().contains("hgh") || e.to_string().contains("high"),
+            "{e}"
+        );
     }
 }
