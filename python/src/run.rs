@@ -356,6 +356,9 @@ pub fn critical_speed<'py>(
     for m in method.iter().flatten() {
         args.push(format!("--method={m}"));
     }
+    if let Some(j) = jobs {
+        args.push(format!("--jobs={j}"));
+    }
     args.extend([
         format!("--min={min_m_s}"),
         format!("--max={max_m_s}"),
@@ -380,20 +383,8 @@ pub fn critical_speed<'py>(
         }
     };
     let settings = railsim::studies::critical_speed::CriticalSpeedSettings {
-        laws: if a.creep.is_empty() {
-            vec![loaded.scene.contact.creep_law]
-        } else {
-            a.creep.clone()
-        },
-        min_m_s: a.min,
-        max_m_s: a.max,
-        tol_m_s: a.tol,
-        jobs: jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
-        methods: a.method.clone(),
         out_dir: out_dir.clone(),
-        skip_s: a.skip_s,
-        ramp_deceleration_m_s2: a.ramp_deceleration,
-        criterion: a.criterion,
+        ..a.settings(&loaded)
     };
     let stop = Arc::new(AtomicBool::new(false));
     let write = out.is_some();

@@ -302,6 +302,34 @@ pub struct CriticalSpeedArgs {
     pub json: bool,
 }
 
+impl CriticalSpeedArgs {
+    /// The study's settings for `scene`: its creep law when none is given,
+    /// every core when `--jobs` is not.
+    pub fn settings(
+        &self,
+        scene: &crate::config::scene::LoadedScene,
+    ) -> crate::studies::critical_speed::CriticalSpeedSettings {
+        crate::studies::critical_speed::CriticalSpeedSettings {
+            laws: if self.creep.is_empty() {
+                vec![scene.scene.contact.creep_law]
+            } else {
+                self.creep.clone()
+            },
+            min_m_s: self.min,
+            max_m_s: self.max,
+            tol_m_s: self.tol,
+            jobs: self
+                .jobs
+                .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
+            methods: self.method.clone(),
+            out_dir: self.out.clone(),
+            skip_s: self.skip_s,
+            ramp_deceleration_m_s2: self.ramp_deceleration,
+            criterion: self.criterion,
+        }
+    }
+}
+
 /// Arguments of `sim run`.
 #[derive(Debug, clap::Args)]
 pub struct RunArgs {

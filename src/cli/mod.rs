@@ -268,29 +268,11 @@ fn run_command(args: &RunArgs) -> Result<()> {
 }
 
 fn critical_speed_command(args: &CriticalSpeedArgs) -> Result<()> {
-    use crate::studies::critical_speed::{CriticalSpeedSettings, study};
+    use crate::studies::critical_speed::study;
 
     let scene = crate::config::scene::LoadedScene::load(&args.scene, &args.set)?;
     check_scene_rail(&scene)?;
-    let laws = if args.creep.is_empty() {
-        vec![scene.scene.contact.creep_law]
-    } else {
-        args.creep.clone()
-    };
-    let settings = CriticalSpeedSettings {
-        laws,
-        min_m_s: args.min,
-        max_m_s: args.max,
-        tol_m_s: args.tol,
-        jobs: args
-            .jobs
-            .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
-        methods: args.method.clone(),
-        out_dir: args.out.clone(),
-        skip_s: args.skip_s,
-        ramp_deceleration_m_s2: args.ramp_deceleration,
-        criterion: args.criterion,
-    };
+    let settings = args.settings(&scene);
     let stop = preproc::cli::stop_on_signal(false);
     let quiet = args.json;
     let mut report = study(&scene, &settings, stop, &mut |m| {
