@@ -136,10 +136,7 @@ fn load_scene(
     set: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<(LoadedScene, Vec<PathBuf>)> {
     let loaded = scene_of(scene, set)?;
-    let mut inputs = loaded.input_paths();
-    if let Some(path) = scene.and_then(|s| s.extract::<PathBuf>().ok()) {
-        inputs.push(path);
-    }
+    let inputs = loaded.input_paths();
     Ok((loaded, inputs))
 }
 

@@ -409,8 +409,7 @@ impl RunArgs {
         // written: an output that is an input, a directory for a file, a
         // missing or read-only directory.
         use runtime::io::{Output, OutputKind, check_outputs};
-        let mut inputs = scene.input_paths();
-        inputs.extend(self.scene.iter().cloned());
+        let inputs = scene.input_paths();
         let mut outputs = vec![Output {
             path: output.clone(),
             kind: OutputKind::File,

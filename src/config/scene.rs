@@ -646,6 +646,9 @@ pub struct LoadedScene {
     pub text: String,
     /// Where it came from (a file, or the built-in default).
     pub origin: String,
+    /// The scene file it was read from (none for the built-in scene or
+    /// one made from text): an input no output may replace.
+    pub file: Option<PathBuf>,
 }
 
 /// The paper's single-wheelset case on the shipped data, run by `sim run`
@@ -660,8 +663,10 @@ impl LoadedScene {
         let text = std::fs::read_to_string(path)
             .with_context(|| format!("reading the scene {}", path.display()))?;
         let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-        Self::from_text(&text, dir, overrides, path.display().to_string())
-            .with_context(|| format!("in the scene {}", path.display()))
+        let mut ls = Self::from_text(&text, dir, overrides, path.display().to_string())
+            .with_context(|| format!("in the scene {}", path.display()))?;
+        ls.file = Some(path.to_path_buf());
+        Ok(ls)
     }
 
     /// The built-in default scene with `overrides`.
@@ -693,6 +698,7 @@ impl LoadedScene {
                 dir,
                 text: text.to_string(),
                 origin,
+                file: None,
             });
         }
         Self::from_table(table, dir, overrides, origin)
@@ -722,6 +728,7 @@ impl LoadedScene {
             dir,
             text,
             origin,
+            file: None,
         })
     }
 
@@ -737,7 +744,7 @@ impl LoadedScene {
         Ok(v)
     }
 
-    /// Every file the scene reads (resolved): track tables or CSV inputs,
+    /// Every file the scene reads (resolved): the scene file itself, track tables or CSV inputs,
     /// the rail profile, the vehicle file and its wheel profiles, an
     /// imported contact table. Outputs are checked against these before a
     /// run (`runtime::io::check_outputs`). A vehicle file that cannot be
@@ -763,6 +770,7 @@ impl LoadedScene {
             out.extend(v.wheelsets.iter().map(|w| v.profile_path(w)));
         }
         out.push(vehicle);
+        out.extend(self.file.iter().cloned());
         out
     }
 

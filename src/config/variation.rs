@@ -128,12 +128,14 @@ impl LoadedScene {
             let (key, value) = v.entry();
             set_entry(&mut table, &key, value).with_context(|| v.describe())?;
         }
-        LoadedScene::from_table(
+        let mut varied = LoadedScene::from_table(
             table,
             self.dir.clone(),
             &described,
             format!("{} ({})", self.origin, described.join(" ")),
-        )
+        )?;
+        varied.file = self.file.clone();
+        Ok(varied)
     }
 }
 
