@@ -22,19 +22,15 @@ pub struct Track {
     summary: Option<serde_json::Value>,
 }
 
-fn read_tables(path: &std::path::Path) -> anyhow::Result<TrackTables> {
-    use anyhow::Context;
-    runtime::io::schema::read_track(path)
-        .with_context(|| format!("loading track tables from {}", path.display()))
-}
-
 #[pymethods]
 impl Track {
     /// Load the track tables of a table file written by `track-preproc
     /// build` or `railsim.build_track`.
     #[staticmethod]
     fn open(py: Python<'_>, path: PathBuf) -> PyResult<Track> {
-        let tables = py.detach(|| read_tables(&path)).or_value_error()?;
+        let tables = py
+            .detach(|| railsim::cli::probe::load_tables(&path))
+            .or_value_error()?;
         Ok(Track {
             tables,
             path,
@@ -257,7 +253,10 @@ pub fn build_track(
                 preproc::cli::build(&build, command_line, &preproc::progress::NoProgress, &|w| {
                     warnings.lock().map_or((), |mut v| v.extend_from_slice(w))
                 })?;
-            Ok((read_tables(&out)?, serde_json::to_value(&summary)?))
+            Ok((
+                railsim::cli::probe::load_tables(&out)?,
+                serde_json::to_value(&summary)?,
+            ))
         })
         .or_value_error()?;
     crate::errors::warn_all(py, &warnings.into_inner().unwrap_or_default())?;

@@ -57,10 +57,15 @@ pub fn probe_tables(tables: &TrackTables, file: &str, s_m: f64) -> Result<Probe>
     })
 }
 
+/// The track tables of a table file, with the error naming it.
+pub fn load_tables(path: &Path) -> Result<TrackTables> {
+    schema::read_track(path)
+        .with_context(|| format!("loading track tables from {}", path.display()))
+}
+
 /// Load `path` and probe it at `s_m`.
 pub fn probe_file(path: &Path, s_m: f64) -> Result<Probe> {
-    let tables = schema::read_track(path)
-        .with_context(|| format!("loading track tables from {}", path.display()))?;
+    let tables = load_tables(path)?;
     probe_tables(&tables, &path.display().to_string(), s_m)
         .with_context(|| format!("probing {} at s = {s_m} m", path.display()))
 }
