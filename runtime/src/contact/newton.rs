@@ -73,6 +73,17 @@ pub(crate) fn solve(
             return Err(fail(x, it, f64::INFINITY));
         }
         let converging = scale == 1.0 && (0..4).all(|k| full[k].abs() < STEP_TOL[k]);
+        // Converged at x: the Newton step, x's distance to the root up to
+        // second order, is below the tolerances and so is the residual.
+        // Taking x (not x + step) saves the evaluation at x + step, a third
+        // of a warm solve; x is within STEP_TOL of the root.
+        if converging && e.residual.amax() < RESIDUAL_TOL {
+            return Ok(Converged {
+                x,
+                iterations: it + 1,
+                eval: e,
+            });
+        }
         // Backtracking on the merit function; a converging step is taken whole.
         let m0 = merit(&e);
         let mut lambda = 1.0;

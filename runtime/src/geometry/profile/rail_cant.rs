@@ -103,12 +103,16 @@ fn midline(points: &[(f64, f64)], beta_rad: f64) -> Result<(f64, f64), CantDetec
         });
     }
     // The first crossing of the level z_top − d, walking from the top
-    // outwards along one side (it exists: d < reach).
-    let crossing = |side: &[(f64, f64)], d: f64| -> f64 {
+    // outwards along one side (it exists: d < reach). The chords go deeper
+    // one after the other, so each side's walk resumes at the window where
+    // the previous chord crossed (`from`): one pass per side, not one per
+    // chord.
+    let crossing = |side: &[(f64, f64)], from: &mut usize, d: f64| -> f64 {
         let level = z_top - d;
-        for w in side.windows(2) {
+        for (i, w) in side.windows(2).enumerate().skip(*from) {
             let (a, b) = (w[0], w[1]);
             if b.1 <= level {
+                *from = i;
                 let t = if a.1 > b.1 {
                     (a.1 - level) / (a.1 - b.1)
                 } else {
@@ -117,14 +121,18 @@ fn midline(points: &[(f64, f64)], beta_rad: f64) -> Result<(f64, f64), CantDetec
                 return a.0 + t * (b.0 - a.0);
             }
         }
+        *from = side.len();
         side[side.len() - 1].0
     };
+    let mut from = [0, 0];
     let chords: Vec<(f64, f64)> = (0..CHORDS)
         .map(|j| {
             let f = CHORD_DEPTH_FROM
                 + (CHORD_DEPTH_TO - CHORD_DEPTH_FROM) * j as f64 / (CHORDS - 1) as f64;
             let d = f * reach;
-            (d, 0.5 * (crossing(&sides[0], d) + crossing(&sides[1], d)))
+            let left = crossing(&sides[0], &mut from[0], d);
+            let right = crossing(&sides[1], &mut from[1], d);
+            (d, 0.5 * (left + right))
         })
         .collect();
     let n = CHORDS as f64;

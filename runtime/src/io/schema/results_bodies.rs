@@ -34,6 +34,7 @@ pub(super) fn create(
     path: &Path,
     file: &hdf5::File,
     record: &RunResults,
+    series: &mut Vec<hdf5::Dataset>,
 ) -> Result<Vec<String>, SchemaError> {
     let g = create_group(path, file, BODIES_GROUP)?;
     if let Some(c) = &record.car_body {
@@ -49,27 +50,21 @@ pub(super) fn create(
         attrs::write_f64(path, &bg, "mass_kg", b.mass_kg)?;
         attrs::write_f64(path, &bg, "assembly_x_m", b.assembly_x_m)?;
         attrs::write_f64(path, &bg, "assembly_height_m", b.assembly_height_m)?;
-        create_columns(path, &bg, &BODY_COLUMNS)?;
+        create_columns(path, &bg, &BODY_COLUMNS, series)?;
     }
     Ok(names)
 }
 
-/// Append the samples of `bodies` to their groups `groups` (made by
-/// [`create`]) from sample `from` on.
+/// Append the samples of `bodies` to the next datasets of `series` (those
+/// [`create`] made, in its order) from sample `from` on.
 pub(super) fn append(
     path: &Path,
-    file: &hdf5::File,
-    groups: &[String],
+    series: &mut std::slice::Iter<'_, hdf5::Dataset>,
     bodies: &[BodySeries],
     from: usize,
 ) -> Result<(), SchemaError> {
-    if bodies.is_empty() {
-        return Ok(());
-    }
-    let g = open_group(path, file, BODIES_GROUP)?;
-    for (b, name) in bodies.iter().zip(groups) {
-        let bg = open_group(path, &g, name)?;
-        append_columns(path, &bg, &BODY_COLUMNS, b, from)?;
+    for b in bodies {
+        append_columns(path, series, &BODY_COLUMNS, b, from)?;
     }
     Ok(())
 }

@@ -34,6 +34,11 @@ pub struct ResultsWriter {
     wheelsets: Option<usize>,
     /// Names of the body groups made with the wheelset groups (`bodies/`).
     body_groups: Vec<String>,
+    /// Every dataset, kept open from its creation, in creation order
+    /// (`time_s`, the wheelsets' columns, the bodies' columns; the order
+    /// [`Self::append_chunk`] appends in): opening 200 datasets by name
+    /// at every append cost as much as writing their samples.
+    series: Vec<hdf5::Dataset>,
     written: usize,
     last_time_s: Option<f64>,
 }
@@ -43,7 +48,7 @@ fn create_series<T: hdf5::H5Type>(
     path: &Path,
     group: &hdf5::Group,
     dataset: &Dataset,
-) -> Result<(), SchemaError> {
+) -> Result<hdf5::Dataset, SchemaError> {
     let what = format!("{}/{}", group.name().trim_end_matches('/'), dataset.name);
     let ds = group
         .new_dataset::<T>()
@@ -52,59 +57,70 @@ fn create_series<T: hdf5::H5Type>(
         .create(dataset.name)
         .map_err(hdf5_err(path, format!("creating {what}")))?;
     attrs::write_str(path, &ds, "units", dataset.units)?;
-    attrs::write_str(path, &ds, "description", dataset.description)
+    attrs::write_str(path, &ds, "description", dataset.description)?;
+    Ok(ds)
 }
 
-/// Append `values` to the dataset `name` of `group`, which holds `from`
-/// values.
+/// The next of the open datasets `series` (in creation order).
+pub(super) fn next_series<'a>(
+    path: &Path,
+    series: &mut std::slice::Iter<'a, hdf5::Dataset>,
+) -> Result<&'a hdf5::Dataset, SchemaError> {
+    series.next().ok_or_else(|| SchemaError::Invalid {
+        path: path.to_path_buf(),
+        object: "/".into(),
+        rule: "a chunk holds more series than the file was made with".into(),
+    })
+}
+
+/// Append `values` to `ds`, which holds `from` values.
 fn append_series<T: hdf5::H5Type>(
     path: &Path,
-    group: &hdf5::Group,
-    name: &str,
+    ds: &hdf5::Dataset,
     from: usize,
     values: &[T],
 ) -> Result<(), SchemaError> {
-    let what = format!("{}/{name}", group.name().trim_end_matches('/'));
-    let ds = group
-        .dataset(name)
-        .map_err(hdf5_err(path, format!("opening {what}")))?;
+    let what = || ds.name();
     let to = from + values.len();
     ds.resize(to)
-        .map_err(hdf5_err(path, format!("extending {what}")))?;
+        .map_err(|e| hdf5_err(path, format!("extending {}", what()))(e))?;
     if !values.is_empty() {
         ds.write_slice(values, from..to)
-            .map_err(hdf5_err(path, format!("writing {what}")))?;
+            .map_err(|e| hdf5_err(path, format!("writing {}", what()))(e))?;
     }
     Ok(())
 }
 
+/// Create the datasets of `columns` in `group`, appended to `series`.
 pub(super) fn create_columns<S, V>(
     path: &Path,
     group: &hdf5::Group,
     columns: &[Column<S, V>],
+    series: &mut Vec<hdf5::Dataset>,
 ) -> Result<(), SchemaError> {
     for c in columns {
-        match &c.values {
+        series.push(match &c.values {
             Values::F64(_) => create_series::<f64>(path, group, &c.dataset)?,
             Values::Flags { .. } => create_series::<u8>(path, group, &c.dataset)?,
-        }
+        });
     }
     Ok(())
 }
 
+/// Append the columns of `s` to the next datasets of `series` (those
+/// [`create_columns`] made for `columns`).
 pub(super) fn append_columns<S, V>(
     path: &Path,
-    group: &hdf5::Group,
+    series: &mut std::slice::Iter<'_, hdf5::Dataset>,
     columns: &[Column<S, V>],
     s: &S,
     from: usize,
 ) -> Result<(), SchemaError> {
     for c in columns {
+        let ds = next_series(path, series)?;
         match &c.values {
-            Values::F64(a) => append_series(path, group, c.name(), from, (a.series)(s))?,
-            Values::Flags { access, .. } => {
-                append_series(path, group, c.name(), from, (access.series)(s))?;
-            }
+            Values::F64(a) => append_series(path, ds, from, (a.series)(s))?,
+            Values::Flags { access, .. } => append_series(path, ds, from, (access.series)(s))?,
         }
     }
     Ok(())
@@ -118,12 +134,6 @@ pub(super) fn create_group(
     parent
         .create_group(name)
         .map_err(hdf5_err(path, format!("creating group {name}")))
-}
-
-fn open_group(path: &Path, parent: &hdf5::Group, name: &str) -> Result<hdf5::Group, SchemaError> {
-    parent
-        .group(name)
-        .map_err(hdf5_err(path, format!("opening group {name}")))
 }
 
 impl ResultsWriter {
@@ -146,13 +156,14 @@ impl ResultsWriter {
         attrs::write_u32(path, &file, "schema_version", RESULTS_SCHEMA_VERSION)?;
         attrs::write_str(path, &file, "tool", RESULTS_TOOL)?;
         attrs::write_str(path, &file, "tool_version", env!("CARGO_PKG_VERSION"))?;
-        create_series::<f64>(path, &file, &TIME_S)?;
+        let time = create_series::<f64>(path, &file, &TIME_S)?;
         Ok(Self {
             path: path.to_path_buf(),
             atomic,
             file,
             wheelsets: None,
             body_groups: Vec::new(),
+            series: vec![time],
             written: 0,
             last_time_s: None,
         })
@@ -178,10 +189,10 @@ impl ResultsWriter {
         for (i, ws) in record.wheelsets.iter().enumerate() {
             let g = create_group(path, &self.file, &wheelset_group(i))?;
             attrs::write_str(path, &g, "name", &ws.name)?;
-            create_columns(path, &g, &WHEELSET_COLUMNS)?;
+            create_columns(path, &g, &WHEELSET_COLUMNS, &mut self.series)?;
             for (wheel, wg) in ws.wheels.iter().zip(WHEEL_GROUPS) {
                 let g = create_group(path, &g, wg)?;
-                create_columns(path, &g, &WHEEL_COLUMNS)?;
+                create_columns(path, &g, &WHEEL_COLUMNS, &mut self.series)?;
                 if let Some(n) = &wheel.nadal {
                     let values = [n.flange_angle_rad, n.friction, n.limit];
                     for (name, v) in NADAL_ATTRIBUTES.into_iter().zip(values) {
@@ -190,11 +201,12 @@ impl ResultsWriter {
                 }
                 for zg in ZONE_GROUPS {
                     let g = create_group(path, &g, zg)?;
-                    create_columns(path, &g, &ZONE_COLUMNS)?;
+                    create_columns(path, &g, &ZONE_COLUMNS, &mut self.series)?;
                 }
             }
         }
-        self.body_groups = super::results_bodies::create(path, &self.file, record)?;
+        self.body_groups =
+            super::results_bodies::create(path, &self.file, record, &mut self.series)?;
         self.wheelsets = Some(record.wheelsets.len());
         Ok(())
     }
@@ -240,20 +252,7 @@ impl ResultsWriter {
             });
         }
         let from = self.written;
-        super::results_bodies::append(path, &self.file, &self.body_groups, &chunk.bodies, from)?;
-        append_series(path, &self.file, TIME_S.name, from, &chunk.time_s)?;
-        for (i, ws) in chunk.wheelsets.iter().enumerate() {
-            let g = open_group(path, &self.file, &wheelset_group(i))?;
-            append_columns(path, &g, &WHEELSET_COLUMNS, ws, from)?;
-            for (wheel, wg) in ws.wheels.iter().zip(WHEEL_GROUPS) {
-                let g = open_group(path, &g, wg)?;
-                append_columns(path, &g, &WHEEL_COLUMNS, wheel, from)?;
-                for (zone, zg) in wheel.zones.iter().zip(ZONE_GROUPS) {
-                    let g = open_group(path, &g, zg)?;
-                    append_columns(path, &g, &ZONE_COLUMNS, zone, from)?;
-                }
-            }
-        }
+        self.append_series_of(&chunk.time_s, &chunk.wheelsets, &chunk.bodies, from)?;
         self.written += chunk.len();
         if let Some(&t) = chunk.time_s.last() {
             self.last_time_s = Some(t);
@@ -270,23 +269,33 @@ impl ResultsWriter {
         // Appending nothing from 0 resizes every dataset to 0.
         self.written = 0;
         self.last_time_s = None;
-        let path = self.path.clone();
-        append_series::<f64>(&path, &self.file, TIME_S.name, 0, &[])?;
         let no_bodies = vec![crate::results::BodySeries::default(); self.body_groups.len()];
-        super::results_bodies::append(&path, &self.file, &self.body_groups, &no_bodies, 0)?;
-        for (i, ws) in empty.wheelsets.iter().enumerate() {
-            let g = open_group(&path, &self.file, &wheelset_group(i))?;
-            append_columns(&path, &g, &WHEELSET_COLUMNS, ws, 0)?;
-            for (wheel, wg) in ws.wheels.iter().zip(WHEEL_GROUPS) {
-                let g = open_group(&path, &g, wg)?;
-                append_columns(&path, &g, &WHEEL_COLUMNS, wheel, 0)?;
-                for (zone, zg) in wheel.zones.iter().zip(ZONE_GROUPS) {
-                    let g = open_group(&path, &g, zg)?;
-                    append_columns(&path, &g, &ZONE_COLUMNS, zone, 0)?;
+        self.append_series_of(&[], &empty.wheelsets, &no_bodies, 0)
+    }
+
+    /// Append the time, wheelset and body series to every open dataset,
+    /// in creation order, from sample `from` on (nothing from 0: every
+    /// dataset back to length 0).
+    fn append_series_of(
+        &self,
+        time_s: &[f64],
+        wheelsets: &[crate::results::WheelsetSeries],
+        bodies: &[crate::results::BodySeries],
+        from: usize,
+    ) -> Result<(), SchemaError> {
+        let path = &self.path;
+        let mut series = self.series.iter();
+        append_series(path, next_series(path, &mut series)?, from, time_s)?;
+        for ws in wheelsets {
+            append_columns(path, &mut series, &WHEELSET_COLUMNS, ws, from)?;
+            for wheel in &ws.wheels {
+                append_columns(path, &mut series, &WHEEL_COLUMNS, wheel, from)?;
+                for zone in &wheel.zones {
+                    append_columns(path, &mut series, &ZONE_COLUMNS, zone, from)?;
                 }
             }
         }
-        Ok(())
+        super::results_bodies::append(path, &mut series, bodies, from)
     }
 
     /// Write the run's metadata (`record`'s attributes, named as
