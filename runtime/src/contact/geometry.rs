@@ -97,6 +97,18 @@ pub(crate) struct Pair<'a> {
     /// without a binary search while the iterates stay on or next to them).
     pub rail_piece: Cell<usize>,
     pub wheel_piece: Cell<usize>,
+    /// The rail table's interval of the last evaluation (the same use).
+    pub rail_row: Cell<usize>,
+    /// Columns ξ, η, ζ of the pose's axle frame `A` (global).
+    axes: [Vector3<f64>; 3],
+}
+
+/// `A v` for `v = (x, 0, z)` from the columns `a` of `A`: `a_ξ x + a_ζ z`,
+/// the operations of nalgebra's `A * v` (column by column, in order)
+/// without the product by the zero component.
+#[inline(always)]
+fn frame_xz(a: &[Vector3<f64>; 3], x: f64, z: f64) -> Vector3<f64> {
+    a[0] * x + a[2] * z
 }
 
 impl<'a> Pair<'a> {
@@ -122,6 +134,12 @@ impl<'a> Pair<'a> {
             pose,
             rail_piece: Cell::new(usize::MAX),
             wheel_piece: Cell::new(usize::MAX),
+            rail_row: Cell::new(usize::MAX),
+            axes: [
+                pose.frame.column(0).into_owned(),
+                pose.frame.column(1).into_owned(),
+                pose.frame.column(2).into_owned(),
+            ],
         }
     }
 
@@ -140,7 +158,9 @@ impl<'a> Pair<'a> {
         let (s_r, u_r, s_w, u_w) = (x[0], x[1], x[2], x[3]);
         let sg = self.sigma;
         // Rail.
-        let (rail, rd) = self.rail_table.at_with_derivative(s_r)?;
+        let (rail, rd) = self
+            .rail_table
+            .at_with_derivative_near(s_r, &self.rail_row)?;
         let (p, n, b) = (rail.position, rail.frame.n, rail.frame.b);
         let rp = self.rail.head().at_near(sg * u_r, &self.rail_piece);
         let (f_r, f_r1, f_r2) = (rp.z_m, sg * rp.dz, rp.d2z_1_m);
@@ -155,15 +175,17 @@ impl<'a> Pair<'a> {
         let r0 = self.wheel.nominal_radius_m();
         let (f_w, f_w1, f_w2) = (wp.z_m - r0, sg * wp.dz, wp.d2z_1_m);
         let (ss, cs) = s_w.sin_cos();
-        let a = &self.pose.frame;
-        let q = Vector3::new(-f_w * ss, self.h_m + u_w, f_w * cs);
-        let r_w = self.pose.position + a * q;
-        let r_w_s = a * Vector3::new(-f_w * cs, 0.0, -f_w * ss);
-        let t1 = a * Vector3::new(cs, 0.0, ss);
-        let t1_s = a * Vector3::new(-ss, 0.0, cs);
-        let t2 = a * Vector3::new(-f_w1 * ss, 1.0, f_w1 * cs);
-        let t2_s = a * Vector3::new(-f_w1 * cs, 0.0, -f_w1 * ss);
-        let t2_u = a * Vector3::new(-f_w2 * ss, 0.0, f_w2 * cs);
+        // The wheel's vectors A q, each as nalgebra's `A * q` computes it
+        // (the same bits), without the products by q's zero components.
+        let a = &self.axes;
+        let r_w = self.pose.position
+            + ((a[0] * (-f_w * ss) + a[1] * (self.h_m + u_w)) + a[2] * (f_w * cs));
+        let r_w_s = frame_xz(a, -f_w * cs, -f_w * ss);
+        let t1 = frame_xz(a, cs, ss);
+        let t1_s = frame_xz(a, -ss, cs);
+        let t2 = (a[0] * (-f_w1 * ss) + a[1]) + a[2] * (f_w1 * cs);
+        let t2_s = frame_xz(a, -f_w1 * cs, -f_w1 * ss);
+        let t2_u = frame_xz(a, -f_w2 * ss, f_w2 * cs);
         let r_w_u = t2;
         let d = r_w - r_r;
 

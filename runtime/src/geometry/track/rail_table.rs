@@ -3,6 +3,8 @@
 //! origin and its frame `(t, n, b)` (cant and rail inclination included).
 //! Looked up by linear interpolation in O(1) (paper §2g).
 
+use std::cell::Cell;
+
 use nalgebra::Vector3;
 
 use super::grid::{UniformGrid, check_rows, lerp3, within};
@@ -125,6 +127,14 @@ impl RailTable {
     /// Interval and fraction of `l_m`, or [`TrackError::OutOfRange`].
     #[inline]
     fn locate_checked(&self, l_m: f64) -> Result<(usize, f64), TrackError> {
+        self.check_range(l_m)?;
+        Ok(self.grid.locate(l_m, |k| self.rows[k].l_m))
+    }
+
+    /// [`TrackError::OutOfRange`] unless `l_m` lies in the table (1e-9 m
+    /// of slack at both ends).
+    #[inline]
+    fn check_range(&self, l_m: f64) -> Result<(), TrackError> {
         let (lo, hi) = self.range_m();
         if !within(l_m, lo, hi, 1e-9) {
             return Err(TrackError::OutOfRange {
@@ -135,7 +145,35 @@ impl RailTable {
                 max_m: hi,
             });
         }
-        Ok(self.grid.locate(l_m, |k| self.rows[k].l_m))
+        Ok(())
+    }
+
+    /// [`Self::locate_checked`], trying the interval `hint` first (a
+    /// solver's iterates move little between two evaluations) and leaving
+    /// the interval used in it: the same interval and fraction in every
+    /// case ([`UniformGrid::interval`]'s is the one interval whose rows
+    /// bracket `l_m`, the first and the last open-ended), found without
+    /// computing it from the step while `l_m` stays in the hinted one.
+    #[inline]
+    fn locate_checked_near(
+        &self,
+        l_m: f64,
+        hint: &Cell<usize>,
+    ) -> Result<(usize, f64), TrackError> {
+        self.check_range(l_m)?;
+        let last = self.rows.len() - 2;
+        let h = hint.get();
+        let i = if h <= last
+            && (h == 0 || self.rows[h].l_m <= l_m)
+            && (h == last || l_m < self.rows[h + 1].l_m)
+        {
+            h
+        } else {
+            self.grid.interval(l_m, |k| self.rows[k].l_m)
+        };
+        hint.set(i);
+        let (a, b) = (self.rows[i].l_m, self.rows[i + 1].l_m);
+        Ok((i, (l_m - a) / (b - a)))
     }
 
     /// The point at fraction `f` of interval `i`.
@@ -178,6 +216,25 @@ impl RailTable {
         // One interval lookup serves the point and its derivatives (the
         // same interval `at` finds, so the same values).
         let (i, f) = self.locate_checked(l_m)?;
+        Ok(self.with_derivative(l_m, i, f))
+    }
+
+    /// [`Self::at_with_derivative`], looking the interval up from `hint`
+    /// first and leaving the interval used in it (the same values bit for
+    /// bit; see [`Self::locate_checked_near`]).
+    #[inline]
+    pub(crate) fn at_with_derivative_near(
+        &self,
+        l_m: f64,
+        hint: &Cell<usize>,
+    ) -> Result<(RailPoint, RailPointDerivative), TrackError> {
+        let (i, f) = self.locate_checked_near(l_m, hint)?;
+        Ok(self.with_derivative(l_m, i, f))
+    }
+
+    /// Point and derivatives at fraction `f` of interval `i`.
+    #[inline]
+    fn with_derivative(&self, l_m: f64, i: usize, f: f64) -> (RailPoint, RailPointDerivative) {
         let (r0, r1) = (&self.rows[i], &self.rows[i + 1]);
         let p = self.interpolate(l_m, i, f);
         let inv = 1.0 / (r1.l_m - r0.l_m);
@@ -188,7 +245,7 @@ impl RailTable {
                 (b[2] - a[2]) * inv,
             )
         };
-        Ok((
+        (
             p,
             RailPointDerivative {
                 position: diff(&r0.position, &r1.position),
@@ -196,7 +253,7 @@ impl RailTable {
                 n: diff(&r0.n, &r1.n),
                 b: diff(&r0.b, &r1.b),
             },
-        ))
+        )
     }
 }
 
