@@ -141,9 +141,9 @@ pub(crate) fn from_eval(
     let lateral = normal.cross(&tangent);
     let (rp, wp) = (e.rail_profile, e.wheel_profile);
     let rolling_radius_m = nominal_radius_m - wp.z_m;
-    let wheel_angle = wp.dz.atan();
     let curvatures = Curvatures {
-        wheel_rolling_1_m: wheel_angle.cos() / rolling_radius_m,
+        // cos γ_w of the wheel profile's slope angle γ_w = atan f_w'.
+        wheel_rolling_1_m: wp.slope_cos() / rolling_radius_m,
         wheel_lateral_1_m: wp.curvature_1_m(),
         rail_rolling_1_m: -e.rail_d.t.dot(&normal),
         rail_lateral_1_m: -rp.curvature_1_m(),

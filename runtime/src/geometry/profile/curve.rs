@@ -16,9 +16,18 @@ pub struct CurvePoint {
 }
 
 impl CurvePoint {
-    /// Signed curvature z''/(1 + z'²)^{3/2} (1/m).
+    /// Signed curvature z''/(1 + z'²)^{3/2} (1/m), the power taken as
+    /// w·√w (w = 1 + z'²): a square root, not a general power.
+    #[inline]
     pub fn curvature_1_m(&self) -> f64 {
-        self.d2z_1_m / (1.0 + self.dz * self.dz).powf(1.5)
+        let w = 1.0 + self.dz * self.dz;
+        self.d2z_1_m / (w * w.sqrt())
+    }
+
+    /// Cosine of the slope angle, cos(atan z') = 1/√(1 + z'²) (–).
+    #[inline]
+    pub fn slope_cos(&self) -> f64 {
+        1.0 / (1.0 + self.dz * self.dz).sqrt()
     }
 }
 
