@@ -3,12 +3,14 @@
 //! started from the previous step's surface parameters, with the flange
 //! search rule.
 
+use nalgebra::Vector3;
+
 use super::candidate::Candidate;
 use super::geometry::SurfaceParams;
 use super::model::{WheelsetContactModel, same_contact};
 use super::{ContactError, WheelsetPose};
 use crate::geometry::profile::{MAX_SEGMENTS, Zone};
-use crate::geometry::track::{Frame, Side, TrackTables};
+use crate::geometry::track::{Side, TrackTables};
 
 /// When the flange zones are searched (paper §4.3: the user chooses whether
 /// flange contact matters; docs/reference/06-contact-detection.md §6).
@@ -209,36 +211,35 @@ struct WheelPosition {
 }
 
 /// Where wheel `side` is; `l` the rail's arc length at the wheelset's
-/// track distance and `frame` the centreline frame there (looked up once
-/// per solve for both wheels).
+/// track distance and `n`, `b` the centreline frame's lateral and normal
+/// vectors there, normalised (looked up once per solve for both wheels).
+/// Lateral measures are taken along the track's lateral vector (not the
+/// rail frame's, which is tilted by the rail inclination: with it, the
+/// axle height would leak into the approach).
 fn wheel_position(
     model: &WheelsetContactModel,
     track: &TrackTables,
     pose: &WheelsetPose,
     side: Side,
     l: f64,
-    frame: &Frame,
+    n: &Vector3<f64>,
+    b: &Vector3<f64>,
 ) -> Result<WheelPosition, ContactError> {
     let sigma = match side {
         Side::Left => -1.0,
         Side::Right => 1.0,
     };
-    let rail = track.rail(side).at(l)?;
-    // Lateral measures along the track's lateral vector (not the rail
-    // frame's, which is tilted by the rail inclination: with it, the axle
-    // height would leak into the approach).
-    let n = frame.n.normalize();
-    let b = frame.b.normalize();
+    let rail_position = track.rail(side).position_at(l)?;
     let h = -sigma * model.half_spacing_m(side);
     let origin = pose.position + pose.frame.column(1) * h;
-    let delta = (origin - rail.position).dot(&n);
+    let delta = (origin - rail_position).dot(n);
     let spacing = model.placement().rail_spacing_m;
     let delta0 = -sigma * (model.half_spacing_m(side) - 0.5 * spacing);
     Ok(WheelPosition {
         approach_m: -sigma * (delta - delta0),
-        yaw_rad: pose.frame.column(0).dot(&n).clamp(-1.0, 1.0).asin(),
-        vertical_m: (origin - rail.position).dot(&b),
-        roll_rad: pose.frame.column(1).dot(&b).clamp(-1.0, 1.0).asin(),
+        yaw_rad: pose.frame.column(0).dot(n).clamp(-1.0, 1.0).asin(),
+        vertical_m: (origin - rail_position).dot(b),
+        roll_rad: pose.frame.column(1).dot(b).clamp(-1.0, 1.0).asin(),
     })
 }
 
@@ -386,12 +387,14 @@ impl ContactSolver {
         out: &mut WheelsetContacts,
     ) -> Result<(), ContactError> {
         let stepping = self.options.reuse_clear_pieces;
-        // The centreline frame at the wheelset, once for both wheels.
-        let frame = track.centerline.at(pose.s_track_m)?.frame;
+        // The centreline frame and the rails' arc lengths at the wheelset,
+        // one lookup for both wheels.
+        let (frame, rail_l) = track.centerline.frame_and_rail_l(pose.s_track_m)?;
+        let (n, b) = (frame.n.normalize(), frame.b.normalize());
         for side in Side::BOTH {
             let i = si(side);
-            let l_now = track.centerline.rail_l(side, pose.s_track_m)?;
-            let position = wheel_position(model, track, pose, side, l_now, &frame)?;
+            let l_now = rail_l[i];
+            let position = wheel_position(model, track, pose, side, l_now, &n, &b)?;
             let flange = self.flange_needed(model, &position, side);
             let segments = model.wheel(side).segments();
             // (slot followed from the last solve, patch)

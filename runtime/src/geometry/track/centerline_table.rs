@@ -250,6 +250,27 @@ impl CenterlineTable {
         ))
     }
 
+    /// The frame of [`Self::at`] and the arc lengths of [`Self::rail_l`]
+    /// (left, right) at `s_m` (m), from one lookup: the same values, for a
+    /// caller that needs only these (the contact search, once per solve).
+    #[inline]
+    pub fn frame_and_rail_l(&self, s_m: f64) -> Result<(Frame, [f64; 2]), TrackError> {
+        let (i, f) = self.locate(s_m)?;
+        let (r0, r1) = (&self.rows[i], &self.rows[i + 1]);
+        let lerp3 = |a, b| lerp3(f, a, b);
+        Ok((
+            Frame {
+                t: lerp3(&r0.t, &r1.t),
+                n: lerp3(&r0.n, &r1.n),
+                b: lerp3(&r0.b, &r1.b),
+            },
+            [
+                lerp(f, r0.rail_l_m(Side::Left), r1.rail_l_m(Side::Left)),
+                lerp(f, r0.rail_l_m(Side::Right), r1.rail_l_m(Side::Right)),
+            ],
+        ))
+    }
+
     /// Centreline distance at arc length `l_m` of rail `side` (m): the inverse
     /// of [`Self::rail_l`], by binary search on the (increasing) L column.
     pub fn s_at_rail_l(&self, side: Side, l_m: f64) -> Result<f64, TrackError> {

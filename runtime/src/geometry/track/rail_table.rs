@@ -124,6 +124,14 @@ impl RailTable {
         Ok(self.interpolate(l_m, i, f))
     }
 
+    /// The position of [`Self::at`] alone (m): the same values, without
+    /// interpolating the frame.
+    #[inline]
+    pub fn position_at(&self, l_m: f64) -> Result<Vector3<f64>, TrackError> {
+        let (i, f) = self.locate_checked(l_m)?;
+        Ok(lerp3(f, &self.rows[i].position, &self.rows[i + 1].position))
+    }
+
     /// Interval and fraction of `l_m`, or [`TrackError::OutOfRange`].
     #[inline]
     fn locate_checked(&self, l_m: f64) -> Result<(usize, f64), TrackError> {
