@@ -291,10 +291,14 @@ impl PiecewiseCubic {
     /// neighbours first (a solver's iterates move little between two
     /// evaluations): the same index in every case, found in O(1) when `x`
     /// lies in or next to the hinted piece, by the full lookup otherwise.
-    #[inline]
+    /// Both lookups return the piece whose knots bracket `x` (for uniform
+    /// knots: ⌊(x − x0)/h⌋ is off by at most one through round-off, which
+    /// its one-step correction undoes); the bracket test needs no floor,
+    /// which the baseline x86-64 target computes by a library call.
+    #[inline(always)]
     pub fn piece_index_near(&self, x: f64, hint: usize) -> usize {
         let last = self.coeffs.len() - 1;
-        if matches!(self.lookup, Lookup::Search { .. }) && hint <= last {
+        if hint <= last {
             // The piece the binary search returns for a non-NaN x: the
             // interior knots up to it are ≤ x, the next one is > x.
             let brackets =
