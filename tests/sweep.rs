@@ -166,8 +166,11 @@ fn sharded_study_merges_to_the_unsharded_table() {
 #[test]
 fn failed_variants_are_recorded_and_computed_again() {
     let dir = scratch("sweep_failed");
-    // A 5 ms RK4 step: Kalker's unsaturated law blows the wheelset up
-    // (variants 1, 3, 5), Polach's runs end; the study goes on to the end.
+    // A 5 ms RK4 step, far above the wheelset's stability limit: Kalker's
+    // unsaturated law blows the wheelset up (variants 1, 3, 5); Polach's
+    // saturating law keeps the motion bounded for a while, so its runs may
+    // end or fail (which, depends on round-off: the integration is
+    // unstable). The study goes on to the end either way.
     let study = small_study(&dir, "");
     let text = read(&study).replace(
         "\"run.distance_m\" = 4.0",
@@ -181,12 +184,19 @@ fn failed_variants_are_recorded_and_computed_again() {
         out.to_str().unwrap(),
         "--quiet",
     ]));
-    assert!(o.contains("6 computed (3 failed)"), "{o}");
     let table = read(&out.join("table.csv"));
+    let mut failed_ids = Vec::new();
     for l in table.lines().skip(1) {
-        let failed = l.contains(",kalker,failed,") && l.contains("the run failed at t =");
+        let failed = l.contains(",failed,") && l.contains("the run failed at t =");
         assert!(failed || l.contains(",polach,ok,"), "{l}");
+        assert!(!l.contains(",kalker,") || failed, "{l}");
+        if failed {
+            failed_ids.push(l.split(',').next().unwrap().to_string());
+        }
     }
+    let n = failed_ids.len();
+    assert!(n >= 3, "{table}");
+    assert!(o.contains(&format!("6 computed ({n} failed)")), "{o}");
     // The failed ones, and only they, are computed again by the next run.
     let o = ok(&sweep(&[
         study.to_str().unwrap(),
@@ -195,14 +205,14 @@ fn failed_variants_are_recorded_and_computed_again() {
         "--quiet",
     ]));
     assert!(
-        o.contains("3 done before, 3 computed (3 failed)")
-            && o.contains("3 failed rows of an earlier run computed again"),
+        o.contains(&format!("{} done before, {n} computed ({n} failed)", 6 - n))
+            && o.contains(&format!("{n} failed rows of an earlier run computed again")),
         "{o}"
     );
-    assert_eq!(
-        computations(&out),
-        ["0", "1", "1", "2", "3", "3", "4", "5", "5"]
-    );
+    let mut expected: Vec<String> = (0..6).map(|i| i.to_string()).collect();
+    expected.extend(failed_ids);
+    expected.sort();
+    assert_eq!(computations(&out), expected);
 }
 
 #[test]
