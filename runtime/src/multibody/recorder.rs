@@ -126,7 +126,7 @@ impl Recorder {
                     let mut normal = 0.0;
                     for seg in 0..MAX_SEGMENTS {
                         if let (Some(cc), Some(ff)) =
-                            (snap.contacts.candidates[k][seg], snap.forces[k][seg])
+                            (&snap.contacts.candidates[k][seg], &snap.forces[k][seg])
                             && cc.zone == zone
                         {
                             lateral += ff.force_on_wheel_n.dot(&n);
@@ -190,7 +190,7 @@ fn side_index(side: Side) -> usize {
 fn zone_fallbacks(snap: &WheelsetSnapshot, k: usize, zone: Zone) -> u8 {
     let mut bits = 0;
     for seg in 0..MAX_SEGMENTS {
-        if let (Some(c), Some(f)) = (snap.contacts.candidates[k][seg], snap.forces[k][seg])
+        if let (Some(c), Some(f)) = (&snap.contacts.candidates[k][seg], &snap.forces[k][seg])
             && c.zone == zone
         {
             if c.method == SolveMethod::Minimisation {
@@ -204,18 +204,19 @@ fn zone_fallbacks(snap: &WheelsetSnapshot, k: usize, zone: Zone) -> u8 {
     bits
 }
 
-/// The zone's piece in contact carrying the largest normal force.
+/// The zone's piece in contact carrying the largest normal force (by
+/// reference: the records are hundreds of bytes).
 fn main_contact(
     snap: &WheelsetSnapshot,
     k: usize,
     zone: Zone,
 ) -> Option<(
-    crate::contact::Candidate,
-    crate::multibody::contact_force::ContactForce,
+    &crate::contact::Candidate,
+    &crate::multibody::contact_force::ContactForce,
 )> {
     (0..MAX_SEGMENTS)
         .filter_map(
-            |seg| match (snap.contacts.candidates[k][seg], snap.forces[k][seg]) {
+            |seg| match (&snap.contacts.candidates[k][seg], &snap.forces[k][seg]) {
                 (Some(c), Some(f)) if c.zone == zone => Some((c, f)),
                 _ => None,
             },
