@@ -40,7 +40,7 @@ fn columns_reuse_the_other_wheelsets_contacts_and_match_a_full_evaluation() {
             let mut y = y0.clone();
             y[j] += 1e-7 * y[j].abs().max(1.0);
             system
-                .rhs_column(0.0, &y, j, &mut f_col)
+                .rhs_column(0.0, &y, &[j], &mut f_col)
                 .expect("evaluates");
             let owner = (0..n_ws).find(|&i| BodyState::slot(i).contains(&j));
             let reused: Vec<bool> = (0..n_ws).map(|i| Some(i) != owner).collect();
@@ -67,7 +67,7 @@ fn columns_reuse_the_other_wheelsets_contacts_and_match_a_full_evaluation() {
         y[0] += 1e-3;
         y[BodyState::slot(n_ws - 1).start + 1] += 1e-6;
         system
-            .rhs_column(0.0, &y, 0, &mut f_col)
+            .rhs_column(0.0, &y, &[0], &mut f_col)
             .expect("evaluates");
         assert!(
             system.contacts_reused().iter().all(|r| !r),
@@ -75,4 +75,87 @@ fn columns_reuse_the_other_wheelsets_contacts_and_match_a_full_evaluation() {
             which.name()
         );
     }
+}
+
+/// The colours the vehicle declares (`OdeSystem::jacobian_blocks`): bodies
+/// whose columns are perturbed together must act on disjoint rows. On every
+/// shipped vehicle, off centre: a body's single column leaves every row
+/// outside its declared rows exactly unchanged (the declared sparsity is
+/// the true one), and the colour's joint evaluation gives each member's
+/// rows bit for bit as its single column does. The car (two bogies) has
+/// colours; a bogie or a wheelset has none (no two bodies can share one).
+#[test]
+fn coloured_columns_match_single_columns_on_their_rows() {
+    let mut coloured_vehicles = Vec::new();
+    for which in ShippedVehicle::ALL {
+        let (vehicle, track) = which.build().expect("the shipped profiles");
+        let (mut system, y0) = VehicleSystem::assemble(
+            &track,
+            &vehicle,
+            which.settings(20.0),
+            InitialConditions {
+                lateral_m: 0.003,
+                yaw_rad: 0.002,
+            },
+        )
+        .expect("assembles");
+        let n = y0.len();
+        let mut f0 = vec![0.0; n];
+        system.rhs(0.0, &y0, &mut f0).expect("evaluates");
+        system.accept(0.0, &y0).expect("accepts");
+        let layout = system.jacobian_blocks(n);
+        layout.check(n).expect("a valid layout");
+        if !layout.colors.is_empty() {
+            coloured_vehicles.push(which.name());
+        }
+        let step = |v: f64| 1e-7 * v.abs().max(1.0);
+        let (mut f_joint, mut f_single) = (vec![0.0; n], vec![0.0; n]);
+        for color in &layout.colors {
+            let width = color
+                .members
+                .iter()
+                .map(|m| m.columns.len())
+                .max()
+                .unwrap_or(0);
+            for j in 0..width {
+                let mut y = y0.clone();
+                let mut changed = Vec::new();
+                for m in color.members.iter().filter(|m| j < m.columns.len()) {
+                    let i = m.columns.start + j;
+                    y[i] += step(y[i]);
+                    changed.push(i);
+                }
+                system
+                    .rhs_column(0.0, &y, &changed, &mut f_joint)
+                    .expect("evaluates");
+                for m in color.members.iter().filter(|m| j < m.columns.len()) {
+                    let i = m.columns.start + j;
+                    let mut y1 = y0.clone();
+                    y1[i] += step(y1[i]);
+                    system
+                        .rhs_column(0.0, &y1, &[i], &mut f_single)
+                        .expect("evaluates");
+                    for row in 0..n {
+                        let declared = m.rows.iter().any(|r| r.contains(&row));
+                        if declared {
+                            assert_eq!(
+                                f_joint[row].to_bits(),
+                                f_single[row].to_bits(),
+                                "{}: column {i}, row {row}",
+                                which.name()
+                            );
+                        } else {
+                            assert_eq!(
+                                f_single[row].to_bits(),
+                                f0[row].to_bits(),
+                                "{}: column {i} changes row {row}, outside its declared rows",
+                                which.name()
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+    assert_eq!(coloured_vehicles, ["car"]);
 }

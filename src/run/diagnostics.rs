@@ -138,7 +138,7 @@ impl OdeSystem for Watched<'_, '_> {
         &mut self,
         t: f64,
         y: &[f64],
-        changed: usize,
+        changed: &[usize],
         dydt: &mut [f64],
     ) -> Result<(), DynamicsError> {
         self.note(t, y);

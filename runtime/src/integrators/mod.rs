@@ -72,7 +72,7 @@ pub mod rk4;
 pub mod rosenbrock;
 
 pub use dopri5::Dopri5;
-pub use jacobian::JacobianBlocks;
+pub use jacobian::{ColoredColumns, ColumnColor, JacobianBlocks};
 pub use kinematic::KinematicBlock;
 pub use rk4::Rk4;
 pub use rosenbrock::{JacobianApprox, Rosenbrock};
@@ -115,17 +115,17 @@ pub trait OdeSystem {
     }
 
     /// dy/dt at (t, y) where y differs from the state of the last
-    /// [`Self::accept`] call in component `changed` only: one column of a
-    /// finite-difference Jacobian ([`jacobian`] module docs). A system may
-    /// reuse what that component cannot change (the vehicle: the contacts
-    /// of the other wheelsets), and must give the same derivative as
-    /// [`Self::rhs`] up to its own convergence tolerances. Default:
-    /// [`Self::rhs`].
+    /// [`Self::accept`] call in the components `changed` only: one column
+    /// of a finite-difference Jacobian, or several perturbed together
+    /// ([`jacobian`] module docs). A system may reuse what those components
+    /// cannot change (the vehicle: the contacts of the other wheelsets),
+    /// and must give the same derivative as [`Self::rhs`] up to its own
+    /// convergence tolerances. Default: [`Self::rhs`].
     fn rhs_column(
         &mut self,
         t: f64,
         y: &[f64],
-        changed: usize,
+        changed: &[usize],
         dydt: &mut [f64],
     ) -> Result<(), Self::Error> {
         let _ = changed;
@@ -388,12 +388,12 @@ fn eval<S: OdeSystem>(
     Ok(first_non_finite(dydt))
 }
 
-/// [`eval`] of one Jacobian column ([`OdeSystem::rhs_column`]).
+/// [`eval`] of Jacobian columns perturbed together ([`OdeSystem::rhs_column`]).
 fn eval_column<S: OdeSystem>(
     system: &mut S,
     t: f64,
     y: &[f64],
-    changed: usize,
+    changed: &[usize],
     dydt: &mut [f64],
     evaluations: &mut u64,
 ) -> Result<Option<usize>, IntegratorError<S::Error>> {

@@ -53,7 +53,7 @@ impl VehicleSystem<'_> {
         for (i, w) in vehicle.wheelsets.iter().enumerate() {
             // A Jacobian column (`rhs_column`): this wheelset is at the
             // accepted state, its contacts are that state's.
-            let reuse = self.column.is_some_and(|c| c.wheelset != Some(i));
+            let reuse = self.column.is_some_and(|c| !c.has_body(i));
             self.contacts_reused[i] = reuse;
             if reuse {
                 let part = self.accepted_parts[i];

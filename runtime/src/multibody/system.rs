@@ -22,7 +22,11 @@ use crate::contact::{ContactSolver, WheelsetContacts};
 use crate::forces::normal::ContactMemory;
 use crate::geometry::profile::{MAX_SEGMENTS, Zone};
 use crate::geometry::track::{Side, TrackTables};
-use crate::integrators::{Control, JacobianBlocks, KinematicBlock, OdeSystem};
+use std::ops::Range;
+
+use crate::integrators::{
+    ColoredColumns, ColumnColor, Control, JacobianBlocks, KinematicBlock, OdeSystem,
+};
 use crate::multibody::axle_frame::axle_frame_derivatives;
 use crate::multibody::body::{BodyState, Wrench, derivatives};
 use crate::multibody::contact_force::ContactForce;
@@ -153,18 +157,22 @@ pub struct VehicleSystem<'a> {
     pub(super) contacts_reused: Vec<bool>,
 }
 
-/// The one component a Jacobian column perturbs
-/// ([`OdeSystem::rhs_column`]): a body's (its anchor index, and its
-/// wheelset index when it is a wheelset) or an element's internal state
-/// (its index among the internal states).
+/// What a Jacobian column perturbs ([`OdeSystem::rhs_column`]): a set of
+/// bodies (bit k: anchor index k, which is the wheelset index for a
+/// wheelset; at most 64 bodies) or one element's internal state (its index
+/// among the internal states).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(super) struct ColumnPerturbation {
-    pub(super) wheelset: Option<usize>,
-    pub(super) body: Option<usize>,
+    pub(super) bodies: u64,
     pub(super) internal: Option<usize>,
 }
 
 impl ColumnPerturbation {
+    /// Whether body (anchor) `k` is perturbed.
+    pub(super) fn has_body(&self, k: usize) -> bool {
+        k < 64 && self.bodies & (1 << k) != 0
+    }
+
     /// Whether element `idx`, between anchors `ia` and `ib` with internal
     /// states `internal` (indices among all internal states), must be
     /// evaluated again: one of its ends or internal states is perturbed.
@@ -174,7 +182,7 @@ impl ColumnPerturbation {
         ib: Option<usize>,
         internal: std::ops::Range<usize>,
     ) -> bool {
-        let body = self.body.is_some() && (ia == self.body || ib == self.body);
+        let body = ia.is_some_and(|k| self.has_body(k)) || ib.is_some_and(|k| self.has_body(k));
         body || self.internal.is_some_and(|i| internal.contains(&i))
     }
 }
@@ -348,6 +356,91 @@ impl<'a> VehicleSystem<'a> {
     }
 }
 
+impl VehicleSystem<'_> {
+    /// Bodies whose Jacobian columns may be perturbed together (Curtis,
+    /// Powell & Reid; docs/reference/08-multibody.md §8.5, "Colours"): a
+    /// body's state acts on the derivatives of that body, of the bodies an
+    /// element joins it to and of those elements' internal states, nothing
+    /// else (a contact acts on its own wheelset, a reference moves with time
+    /// only). Bodies whose sets of rows are disjoint share a colour, greedy,
+    /// largest set first. None when no two bodies can share one (a bogie,
+    /// whose wheelsets both hang on the frame), or with more than 64 bodies.
+    fn column_colors(&self, n: usize) -> Vec<ColumnColor> {
+        let n_bodies = self.vehicle.wheelsets.len() + self.vehicle.bodies.len();
+        let n_body_states = self.vehicle.body_state_len();
+        if n_bodies > 64 || n_body_states > n {
+            return Vec::new();
+        }
+        let mut neighbours = vec![vec![false; n_bodies]; n_bodies];
+        let mut internal_rows: Vec<Vec<Range<usize>>> = vec![Vec::new(); n_bodies];
+        for (k, row) in neighbours.iter_mut().enumerate() {
+            row[k] = true;
+        }
+        for (idx, (e, spec)) in self.elements.iter().zip(&self.vehicle.elements).enumerate() {
+            let ends: Vec<usize> = [self.anchor_index(spec.a), self.anchor_index(spec.b)]
+                .into_iter()
+                .flatten()
+                .filter(|&k| k < n_bodies)
+                .collect();
+            let start = n_body_states + self.internal_offsets[idx];
+            let internal = start..start + e.internal_len();
+            for &a in &ends {
+                for &b in &ends {
+                    neighbours[a][b] = true;
+                }
+                if !internal.is_empty() {
+                    internal_rows[a].push(internal.clone());
+                }
+            }
+        }
+        let rows: Vec<Vec<Range<usize>>> = (0..n_bodies)
+            .map(|a| {
+                let mut r: Vec<Range<usize>> = (0..n_bodies)
+                    .filter(|&b| neighbours[a][b])
+                    .map(BodyState::slot)
+                    .collect();
+                r.extend(internal_rows[a].iter().cloned());
+                r
+            })
+            .collect();
+        let size = |a: usize| rows[a].iter().map(|r| r.len()).sum::<usize>();
+        let mut order: Vec<usize> = (0..n_bodies).collect();
+        order.sort_by_key(|&a| std::cmp::Reverse(size(a)));
+        let mut colors: Vec<(Vec<usize>, Vec<bool>)> = Vec::new();
+        for a in order {
+            let mut mine = vec![false; n];
+            for r in &rows[a] {
+                mine[r.clone()].iter_mut().for_each(|m| *m = true);
+            }
+            match colors
+                .iter_mut()
+                .find(|(_, taken)| !taken.iter().zip(&mine).any(|(t, m)| *t && *m))
+            {
+                Some((members, taken)) => {
+                    members.push(a);
+                    taken.iter_mut().zip(&mine).for_each(|(t, m)| *t |= *m);
+                }
+                None => colors.push((vec![a], mine)),
+            }
+        }
+        if colors.len() == n_bodies {
+            return Vec::new();
+        }
+        colors
+            .into_iter()
+            .map(|(members, _)| ColumnColor {
+                members: members
+                    .into_iter()
+                    .map(|a| ColoredColumns {
+                        columns: BodyState::slot(a),
+                        rows: rows[a].clone(),
+                    })
+                    .collect(),
+            })
+            .collect()
+    }
+}
+
 impl OdeSystem for VehicleSystem<'_> {
     type Error = DynamicsError;
 
@@ -469,7 +562,10 @@ impl OdeSystem for VehicleSystem<'_> {
                 }
             })
             .collect();
-        JacobianBlocks::dense_kinematic(n, kinematics)
+        JacobianBlocks {
+            colors: self.column_colors(n),
+            ..JacobianBlocks::dense_kinematic(n, kinematics)
+        }
     }
 
     /// A Jacobian column at the accepted state: what the perturbed
@@ -484,27 +580,38 @@ impl OdeSystem for VehicleSystem<'_> {
         &mut self,
         t: f64,
         y: &[f64],
-        changed: usize,
+        changed: &[usize],
         dydt: &mut [f64],
     ) -> Result<(), DynamicsError> {
         let n_ws = self.vehicle.wheelsets.len();
         let n_body_states = self.vehicle.body_state_len();
         let at_accepted = t == self.accepted.t_s
             && y.len() == self.accepted.y.len()
-            && changed < y.len()
+            && changed.iter().all(|&c| c < y.len())
             && self.accepted_parts.len() == n_ws
             && self.accepted_element_forces.len() == self.elements.len()
             && y.iter()
                 .zip(&self.accepted.y)
                 .enumerate()
-                .all(|(i, (a, b))| i == changed || a == b);
+                .all(|(i, (a, b))| a == b || changed.contains(&i));
         if at_accepted {
-            let body = (changed < n_body_states).then_some(changed / BodyState::LEN);
-            self.column = Some(ColumnPerturbation {
-                wheelset: body.filter(|&k| k < n_ws),
-                body,
-                internal: changed.checked_sub(n_body_states),
+            // Bodies by bit; one internal state at most (else a full
+            // evaluation).
+            let mut column = Some(ColumnPerturbation {
+                bodies: 0,
+                internal: None,
             });
+            for &c in changed {
+                let Some(p) = column.as_mut() else { break };
+                if c < n_body_states && c / BodyState::LEN < 64 {
+                    p.bodies |= 1 << (c / BodyState::LEN);
+                } else if c >= n_body_states && p.internal.is_none() {
+                    p.internal = Some(c - n_body_states);
+                } else {
+                    column = None;
+                }
+            }
+            self.column = column;
         }
         let result = self.rhs(t, y, dydt);
         self.column = None;
