@@ -7,7 +7,7 @@
 use runtime::fixtures::vehicles::ShippedVehicle;
 use runtime::integrators::OdeSystem;
 use runtime::multibody::body::BodyState;
-use runtime::multibody::{InitialConditions, VehicleSystem};
+use runtime::multibody::{InitialConditions, VehicleModel, VehicleSystem};
 
 /// Largest |f_column − f_full| allowed, relative to 1 + |f_full| in the
 /// state's units per second: the unperturbed wheelsets' contacts differ
@@ -18,26 +18,12 @@ const TOLERANCE: f64 = 1e-7;
 
 #[test]
 fn columns_reuse_the_other_wheelsets_contacts_and_match_a_full_evaluation() {
-    for which in ShippedVehicle::ALL {
-        let (vehicle, track) = which.build().expect("the shipped profiles");
-        let (mut system, y0) = VehicleSystem::assemble(
-            &track,
-            &vehicle,
-            which.settings(20.0),
-            InitialConditions {
-                lateral_m: 0.003,
-                yaw_rad: 0.002,
-            },
-        )
-        .expect("assembles");
+    for_each_vehicle_off_centre(|which, vehicle, system, y0, _f0| {
         let n = y0.len();
-        let mut f0 = vec![0.0; n];
-        system.rhs(0.0, &y0, &mut f0).expect("evaluates");
-        system.accept(0.0, &y0).expect("accepts");
         let n_ws = vehicle.wheelsets.len();
         let (mut f_col, mut f_full) = (vec![0.0; n], vec![0.0; n]);
         for j in 0..n {
-            let mut y = y0.clone();
+            let mut y = y0.to_vec();
             y[j] += 1e-7 * y[j].abs().max(1.0);
             system
                 .rhs_column(0.0, &y, &[j], &mut f_col)
@@ -63,7 +49,7 @@ fn columns_reuse_the_other_wheelsets_contacts_and_match_a_full_evaluation() {
         }
         // Away from the accepted state (the first and the last wheelset
         // moved), nothing is reused.
-        let mut y = y0.clone();
+        let mut y = y0.to_vec();
         y[0] += 1e-3;
         y[BodyState::slot(n_ws - 1).start + 1] += 1e-6;
         system
@@ -74,7 +60,7 @@ fn columns_reuse_the_other_wheelsets_contacts_and_match_a_full_evaluation() {
             "{}: two components changed, yet contacts were reused",
             which.name()
         );
-    }
+    });
 }
 
 /// The colours the vehicle declares (`OdeSystem::jacobian_blocks`): bodies
@@ -87,22 +73,8 @@ fn columns_reuse_the_other_wheelsets_contacts_and_match_a_full_evaluation() {
 #[test]
 fn coloured_columns_match_single_columns_on_their_rows() {
     let mut coloured_vehicles = Vec::new();
-    for which in ShippedVehicle::ALL {
-        let (vehicle, track) = which.build().expect("the shipped profiles");
-        let (mut system, y0) = VehicleSystem::assemble(
-            &track,
-            &vehicle,
-            which.settings(20.0),
-            InitialConditions {
-                lateral_m: 0.003,
-                yaw_rad: 0.002,
-            },
-        )
-        .expect("assembles");
+    for_each_vehicle_off_centre(|which, _vehicle, system, y0, f0| {
         let n = y0.len();
-        let mut f0 = vec![0.0; n];
-        system.rhs(0.0, &y0, &mut f0).expect("evaluates");
-        system.accept(0.0, &y0).expect("accepts");
         let layout = system.jacobian_blocks(n);
         layout.check(n).expect("a valid layout");
         if !layout.colors.is_empty() {
@@ -118,7 +90,7 @@ fn coloured_columns_match_single_columns_on_their_rows() {
                 .max()
                 .unwrap_or(0);
             for j in 0..width {
-                let mut y = y0.clone();
+                let mut y = y0.to_vec();
                 let mut changed = Vec::new();
                 for m in color.members.iter().filter(|m| j < m.columns.len()) {
                     let i = m.columns.start + j;
@@ -130,7 +102,7 @@ fn coloured_columns_match_single_columns_on_their_rows() {
                     .expect("evaluates");
                 for m in color.members.iter().filter(|m| j < m.columns.len()) {
                     let i = m.columns.start + j;
-                    let mut y1 = y0.clone();
+                    let mut y1 = y0.to_vec();
                     y1[i] += step(y1[i]);
                     system
                         .rhs_column(0.0, &y1, &[i], &mut f_single)
@@ -156,6 +128,31 @@ fn coloured_columns_match_single_columns_on_their_rows() {
                 }
             }
         }
-    }
+    });
     assert_eq!(coloured_vehicles, ["car"]);
+}
+
+/// Every shipped vehicle assembled off centre (3 mm, 2 mrad), evaluated
+/// and accepted at its initial state y0 (derivative f0):
+/// `check(which, vehicle, system, y0, f0)`.
+fn for_each_vehicle_off_centre(
+    mut check: impl FnMut(ShippedVehicle, &VehicleModel, &mut VehicleSystem<'_>, &[f64], &[f64]),
+) {
+    for which in ShippedVehicle::ALL {
+        let (vehicle, track) = which.build().expect("the shipped profiles");
+        let (mut system, y0) = VehicleSystem::assemble(
+            &track,
+            &vehicle,
+            which.settings(20.0),
+            InitialConditions {
+                lateral_m: 0.003,
+                yaw_rad: 0.002,
+            },
+        )
+        .expect("assembles");
+        let mut f0 = vec![0.0; y0.len()];
+        system.rhs(0.0, &y0, &mut f0).expect("evaluates");
+        system.accept(0.0, &y0).expect("accepts");
+        check(which, &vehicle, &mut system, &y0, &f0);
+    }
 }

@@ -311,12 +311,8 @@ impl BlockJacobian {
                     let delta = self.y_pert[i] - y[i];
                     let m = r.len();
                     for (row, k) in r.clone().enumerate() {
-                        let d = (self.f_pert[k] - f0[k]) / delta;
-                        self.jac[b][row * m + j] = if bad.is_some() || !d.is_finite() {
-                            0.0
-                        } else {
-                            d
-                        };
+                        self.jac[b][row * m + j] =
+                            fd_entry(self.f_pert[k], f0[k], delta, bad.is_some());
                     }
                     self.y_pert[i] = y[i];
                 }
@@ -371,12 +367,8 @@ impl BlockJacobian {
                         jac[row * n + i] = 0.0;
                     }
                     for row in m.rows.iter().flat_map(|r| r.clone()) {
-                        let d = (self.f_pert[row] - f0[row]) / delta;
-                        jac[row * n + i] = if bad.is_some() || !d.is_finite() {
-                            0.0
-                        } else {
-                            d
-                        };
+                        jac[row * n + i] =
+                            fd_entry(self.f_pert[row], f0[row], delta, bad.is_some());
                     }
                     self.y_pert[i] = y[i];
                     colored[i] = true;
@@ -388,12 +380,7 @@ impl BlockJacobian {
             let bad = eval_column(system, t, &self.y_pert, &[i], &mut self.f_pert, evaluations)?;
             let delta = self.y_pert[i] - y[i];
             for row in 0..n {
-                let d = (self.f_pert[row] - f0[row]) / delta;
-                jac[row * n + i] = if bad.is_some() || !d.is_finite() {
-                    0.0
-                } else {
-                    d
-                };
+                jac[row * n + i] = fd_entry(self.f_pert[row], f0[row], delta, bad.is_some());
             }
             self.y_pert[i] = y[i];
         }
@@ -450,6 +437,15 @@ impl BlockJacobian {
             v[r].copy_from_slice(x);
         }
     }
+}
+
+/// One forward-difference entry (f_pert − f0)/δ; zero when the perturbed
+/// evaluation or the entry is not finite (that column is then treated
+/// explicitly; the step's error control sees the trouble, if any, in the
+/// stages themselves).
+fn fd_entry(f_pert: f64, f0: f64, delta: f64, bad: bool) -> f64 {
+    let d = (f_pert - f0) / delta;
+    if bad || !d.is_finite() { 0.0 } else { d }
 }
 
 /// The forward-difference increment for a component of value `y`.
