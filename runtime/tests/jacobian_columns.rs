@@ -83,13 +83,7 @@ fn coloured_columns_match_single_columns_on_their_rows() {
         let step = |v: f64| 1e-7 * v.abs().max(1.0);
         let (mut f_joint, mut f_single) = (vec![0.0; n], vec![0.0; n]);
         for color in &layout.colors {
-            let width = color
-                .members
-                .iter()
-                .map(|m| m.columns.len())
-                .max()
-                .unwrap_or(0);
-            for j in 0..width {
+            for j in 0..color.width() {
                 let mut y = y0.to_vec();
                 let mut changed = Vec::new();
                 for m in color.members.iter().filter(|m| j < m.columns.len()) {

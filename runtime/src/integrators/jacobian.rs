@@ -89,6 +89,17 @@ pub struct ColumnColor {
     pub members: Vec<ColoredColumns>,
 }
 
+impl ColumnColor {
+    /// Evaluations the colour costs: its widest member's columns.
+    pub fn width(&self) -> usize {
+        self.members
+            .iter()
+            .map(|m| m.columns.len())
+            .max()
+            .unwrap_or(0)
+    }
+}
+
 /// A range of columns and every row those columns can change (the other
 /// rows of the columns are zero).
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -197,11 +208,7 @@ impl JacobianBlocks {
                 .flat_map(|c| &c.members)
                 .map(|m| m.columns.len())
                 .sum();
-            let widths: usize = self
-                .colors
-                .iter()
-                .map(|c| c.members.iter().map(|m| m.columns.len()).max().unwrap_or(0))
-                .sum();
+            let widths: usize = self.colors.iter().map(ColumnColor::width).sum();
             return widths + n - colored;
         }
         self.groups
@@ -339,13 +346,7 @@ impl BlockJacobian {
         let mut colored = vec![false; n];
         let mut changed = Vec::new();
         for color in &self.layout.colors {
-            let width = color
-                .members
-                .iter()
-                .map(|m| m.columns.len())
-                .max()
-                .unwrap_or(0);
-            for j in 0..width {
+            for j in 0..color.width() {
                 changed.clear();
                 for m in color.members.iter().filter(|m| j < m.columns.len()) {
                     let i = m.columns.start + j;

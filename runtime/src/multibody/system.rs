@@ -8,6 +8,7 @@
 //! (`evaluate.rs`); settings in `settings.rs`, errors in `error.rs`, the
 //! energy ledger in `energy.rs`.
 
+use std::ops::Range;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -22,8 +23,6 @@ use crate::contact::{ContactSolver, WheelsetContacts};
 use crate::forces::normal::ContactMemory;
 use crate::geometry::profile::{MAX_SEGMENTS, Zone};
 use crate::geometry::track::{Side, TrackTables};
-use std::ops::Range;
-
 use crate::integrators::{
     ColoredColumns, ColumnColor, Control, JacobianBlocks, KinematicBlock, OdeSystem,
 };

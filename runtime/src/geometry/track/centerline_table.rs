@@ -229,14 +229,21 @@ impl CenterlineTable {
         Ok(CenterlinePoint {
             s_m,
             position: lerp3(&r0.position, &r1.position),
-            frame: Frame {
-                t: lerp3(&r0.t, &r1.t),
-                n: lerp3(&r0.n, &r1.n),
-                b: lerp3(&r0.b, &r1.b),
-            },
+            frame: self.frame(i, f),
             cant_rad: lerp(r0.cant_rad, r1.cant_rad),
             curvature_1_m: lerp(r0.curvature_1_m, r1.curvature_1_m),
         })
+    }
+
+    /// The frame at fraction `f` of interval `i`, interpolated component-wise.
+    #[inline]
+    fn frame(&self, i: usize, f: f64) -> Frame {
+        let (r0, r1) = (&self.rows[i], &self.rows[i + 1]);
+        Frame {
+            t: lerp3(f, &r0.t, &r1.t),
+            n: lerp3(f, &r0.n, &r1.n),
+            b: lerp3(f, &r0.b, &r1.b),
+        }
     }
 
     /// Arc length of rail `side` at centreline distance `s_m` (m), O(1).
@@ -257,13 +264,8 @@ impl CenterlineTable {
     pub fn frame_and_rail_l(&self, s_m: f64) -> Result<(Frame, [f64; 2]), TrackError> {
         let (i, f) = self.locate(s_m)?;
         let (r0, r1) = (&self.rows[i], &self.rows[i + 1]);
-        let lerp3 = |a, b| lerp3(f, a, b);
         Ok((
-            Frame {
-                t: lerp3(&r0.t, &r1.t),
-                n: lerp3(&r0.n, &r1.n),
-                b: lerp3(&r0.b, &r1.b),
-            },
+            self.frame(i, f),
             [
                 lerp(f, r0.rail_l_m(Side::Left), r1.rail_l_m(Side::Left)),
                 lerp(f, r0.rail_l_m(Side::Right), r1.rail_l_m(Side::Right)),

@@ -115,6 +115,31 @@ impl UniformGrid {
         i
     }
 
+    /// [`Self::locate`], trying the interval `hint` first (a solver's
+    /// iterates move little between two evaluations) and leaving the
+    /// interval used in it: the same interval and fraction in every case
+    /// ([`Self::interval`]'s is the one interval whose rows bracket `x`, the
+    /// first and the last open-ended), found without the grid formula
+    /// while `x` stays in the hinted one.
+    #[inline]
+    pub(crate) fn locate_near(
+        &self,
+        x: f64,
+        hint: &std::cell::Cell<usize>,
+        key: impl Fn(usize) -> f64,
+    ) -> (usize, f64) {
+        let last = self.intervals - 1;
+        let h = hint.get();
+        let i = if h <= last && (h == 0 || key(h) <= x) && (h == last || x < key(h + 1)) {
+            h
+        } else {
+            self.interval(x, &key)
+        };
+        hint.set(i);
+        let (a, b) = (key(i), key(i + 1));
+        (i, (x - a) / (b - a))
+    }
+
     /// Interval and fraction of `x` against the stored rows:
     /// `(i, (x − key(i))/(key(i + 1) − key(i)))` with `i` from
     /// [`Self::interval`]; the fraction lies outside [0, 1] outside the

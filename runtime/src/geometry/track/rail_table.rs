@@ -156,12 +156,8 @@ impl RailTable {
         Ok(())
     }
 
-    /// [`Self::locate_checked`], trying the interval `hint` first (a
-    /// solver's iterates move little between two evaluations) and leaving
-    /// the interval used in it: the same interval and fraction in every
-    /// case ([`UniformGrid::interval`]'s is the one interval whose rows
-    /// bracket `l_m`, the first and the last open-ended), found without
-    /// computing it from the step while `l_m` stays in the hinted one.
+    /// [`Self::locate_checked`] from the interval `hint`
+    /// ([`UniformGrid::locate_near`]: the same interval and fraction).
     #[inline]
     fn locate_checked_near(
         &self,
@@ -169,19 +165,7 @@ impl RailTable {
         hint: &Cell<usize>,
     ) -> Result<(usize, f64), TrackError> {
         self.check_range(l_m)?;
-        let last = self.rows.len() - 2;
-        let h = hint.get();
-        let i = if h <= last
-            && (h == 0 || self.rows[h].l_m <= l_m)
-            && (h == last || l_m < self.rows[h + 1].l_m)
-        {
-            h
-        } else {
-            self.grid.interval(l_m, |k| self.rows[k].l_m)
-        };
-        hint.set(i);
-        let (a, b) = (self.rows[i].l_m, self.rows[i + 1].l_m);
-        Ok((i, (l_m - a) / (b - a)))
+        Ok(self.grid.locate_near(l_m, hint, |k| self.rows[k].l_m))
     }
 
     /// The point at fraction `f` of interval `i`.

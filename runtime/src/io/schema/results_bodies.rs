@@ -28,14 +28,14 @@ use super::{SchemaError, attrs};
 use crate::results::paths::{BODIES_GROUP, body_group_names};
 use crate::results::{BODY_COLUMNS, BodyKind, BodySeries, CarBody, RunResults};
 
-/// Make `bodies/` and one empty, extendable subgroup per body of `record`;
-/// their group names, for [`append`].
+/// Make `bodies/` and one empty, extendable subgroup per body of `record`,
+/// their datasets pushed onto `series` (for [`append`], in this order).
 pub(super) fn create(
     path: &Path,
     file: &hdf5::File,
     record: &RunResults,
     series: &mut Vec<hdf5::Dataset>,
-) -> Result<Vec<String>, SchemaError> {
+) -> Result<(), SchemaError> {
     let g = create_group(path, file, BODIES_GROUP)?;
     if let Some(c) = &record.car_body {
         attrs::write_str(path, &g, "car_body", &c.name)?;
@@ -52,7 +52,7 @@ pub(super) fn create(
         attrs::write_f64(path, &bg, "assembly_height_m", b.assembly_height_m)?;
         create_columns(path, &bg, &BODY_COLUMNS, series)?;
     }
-    Ok(names)
+    Ok(())
 }
 
 /// Append the samples of `bodies` to the next datasets of `series` (those

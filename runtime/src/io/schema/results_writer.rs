@@ -32,8 +32,8 @@ pub struct ResultsWriter {
     file: hdf5::File,
     /// Wheelset groups made (with the first chunk).
     wheelsets: Option<usize>,
-    /// Names of the body groups made with the wheelset groups (`bodies/`).
-    body_groups: Vec<String>,
+    /// Bodies whose groups were made with the wheelset groups (`bodies/`).
+    bodies: usize,
     /// Every dataset, kept open from its creation, in creation order
     /// (`time_s`, the wheelsets' columns, the bodies' columns; the order
     /// [`Self::append_chunk`] appends in): opening 200 datasets by name
@@ -162,7 +162,7 @@ impl ResultsWriter {
             atomic,
             file,
             wheelsets: None,
-            body_groups: Vec::new(),
+            bodies: 0,
             series: vec![time],
             written: 0,
             last_time_s: None,
@@ -205,8 +205,8 @@ impl ResultsWriter {
                 }
             }
         }
-        self.body_groups =
-            super::results_bodies::create(path, &self.file, record, &mut self.series)?;
+        super::results_bodies::create(path, &self.file, record, &mut self.series)?;
+        self.bodies = record.bodies.len();
         self.wheelsets = Some(record.wheelsets.len());
         Ok(())
     }
@@ -242,11 +242,11 @@ impl ResultsWriter {
         }
         self.ensure_wheelsets(chunk)?;
         let path = &self.path;
-        if chunk.bodies.len() != self.body_groups.len() {
+        if chunk.bodies.len() != self.bodies {
             return Err(SchemaError::InvalidResults {
                 path: path.to_path_buf(),
                 source: crate::results::ResultsError::BodyCount {
-                    expected: self.body_groups.len(),
+                    expected: self.bodies,
                     found: chunk.bodies.len(),
                 },
             });
@@ -269,7 +269,7 @@ impl ResultsWriter {
         // Appending nothing from 0 resizes every dataset to 0.
         self.written = 0;
         self.last_time_s = None;
-        let no_bodies = vec![crate::results::BodySeries::default(); self.body_groups.len()];
+        let no_bodies = vec![crate::results::BodySeries::default(); self.bodies];
         self.append_series_of(&[], &empty.wheelsets, &no_bodies, 0)
     }
 
