@@ -44,6 +44,7 @@ mod columns;
 mod contact_table;
 mod design_elements;
 mod imported;
+mod raw_series;
 mod results_bodies;
 mod results_file;
 mod results_writer;

@@ -22,6 +22,7 @@
 
 use std::path::Path;
 
+use super::raw_series::SeriesMaker;
 use super::results_file::{has, hdf5_err, open_group, read_columns};
 use super::results_writer::{append_columns, create_columns, create_group};
 use super::{SchemaError, attrs};
@@ -32,6 +33,7 @@ use crate::results::{BODY_COLUMNS, BodyKind, BodySeries, CarBody, RunResults};
 /// their datasets pushed onto `series` (for [`append`], in this order).
 pub(super) fn create(
     path: &Path,
+    maker: &SeriesMaker,
     file: &hdf5::File,
     record: &RunResults,
     series: &mut Vec<hdf5::Dataset>,
@@ -50,7 +52,7 @@ pub(super) fn create(
         attrs::write_f64(path, &bg, "mass_kg", b.mass_kg)?;
         attrs::write_f64(path, &bg, "assembly_x_m", b.assembly_x_m)?;
         attrs::write_f64(path, &bg, "assembly_height_m", b.assembly_height_m)?;
-        create_columns(path, &bg, &BODY_COLUMNS, series)?;
+        create_columns(path, maker, &bg, &BODY_COLUMNS, series)?;
     }
     Ok(())
 }

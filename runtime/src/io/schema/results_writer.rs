@@ -10,6 +10,7 @@
 
 use std::path::{Path, PathBuf};
 
+use super::raw_series::{self, SeriesKind, SeriesMaker, SeriesValue};
 use super::results_file::{
     NADAL_ATTRIBUTES, RESULTS_SCHEMA, RESULTS_SCHEMA_VERSION, RESULTS_TOOL, hdf5_err,
 };
@@ -39,26 +40,33 @@ pub struct ResultsWriter {
     /// [`Self::append_chunk`] appends in): opening 200 datasets by name
     /// at every append cost as much as writing their samples.
     series: Vec<hdf5::Dataset>,
+    /// The property lists, dataspace and string type every series shares.
+    maker: SeriesMaker,
     written: usize,
     last_time_s: Option<f64>,
 }
 
-/// Create the empty, extendable dataset `dataset` of `group`.
-fn create_series<T: hdf5::H5Type>(
+/// Create the empty, extendable dataset `dataset` of `group` (through
+/// `maker`, [`super::raw_series`]).
+fn create_series(
     path: &Path,
+    maker: &SeriesMaker,
     group: &hdf5::Group,
     dataset: &Dataset,
+    kind: SeriesKind,
 ) -> Result<hdf5::Dataset, SchemaError> {
-    let what = format!("{}/{}", group.name().trim_end_matches('/'), dataset.name);
-    let ds = group
-        .new_dataset::<T>()
-        .chunk(RESULTS_CHUNK_SAMPLES)
-        .shape(0..)
-        .create(dataset.name)
-        .map_err(hdf5_err(path, format!("creating {what}")))?;
-    attrs::write_str(path, &ds, "units", dataset.units)?;
-    attrs::write_str(path, &ds, "description", dataset.description)?;
-    Ok(ds)
+    maker
+        .create(
+            group,
+            dataset.name,
+            kind,
+            dataset.units,
+            dataset.description,
+        )
+        .map_err(|source| {
+            let what = format!("{}/{}", group.name().trim_end_matches('/'), dataset.name);
+            hdf5_err(path, format!("creating {what}"))(source)
+        })
 }
 
 /// The next of the open datasets `series` (in creation order).
@@ -74,35 +82,30 @@ pub(super) fn next_series<'a>(
 }
 
 /// Append `values` to `ds`, which holds `from` values.
-fn append_series<T: hdf5::H5Type>(
+fn append_series<T: SeriesValue>(
     path: &Path,
     ds: &hdf5::Dataset,
     from: usize,
     values: &[T],
 ) -> Result<(), SchemaError> {
-    let what = || ds.name();
-    let to = from + values.len();
-    ds.resize(to)
-        .map_err(|e| hdf5_err(path, format!("extending {}", what()))(e))?;
-    if !values.is_empty() {
-        ds.write_slice(values, from..to)
-            .map_err(|e| hdf5_err(path, format!("writing {}", what()))(e))?;
-    }
-    Ok(())
+    raw_series::append(ds, from, values)
+        .map_err(|e| hdf5_err(path, format!("writing {}", ds.name()))(e))
 }
 
 /// Create the datasets of `columns` in `group`, appended to `series`.
 pub(super) fn create_columns<S, V>(
     path: &Path,
+    maker: &SeriesMaker,
     group: &hdf5::Group,
     columns: &[Column<S, V>],
     series: &mut Vec<hdf5::Dataset>,
 ) -> Result<(), SchemaError> {
     for c in columns {
-        series.push(match &c.values {
-            Values::F64(_) => create_series::<f64>(path, group, &c.dataset)?,
-            Values::Flags { .. } => create_series::<u8>(path, group, &c.dataset)?,
-        });
+        let kind = match &c.values {
+            Values::F64(_) => SeriesKind::F64,
+            Values::Flags { .. } => SeriesKind::Flags,
+        };
+        series.push(create_series(path, maker, group, &c.dataset, kind)?);
     }
     Ok(())
 }
@@ -156,7 +159,8 @@ impl ResultsWriter {
         attrs::write_u32(path, &file, "schema_version", RESULTS_SCHEMA_VERSION)?;
         attrs::write_str(path, &file, "tool", RESULTS_TOOL)?;
         attrs::write_str(path, &file, "tool_version", env!("CARGO_PKG_VERSION"))?;
-        let time = create_series::<f64>(path, &file, &TIME_S)?;
+        let maker = SeriesMaker::new().map_err(hdf5_err(path, "preparing the series"))?;
+        let time = create_series(path, &maker, &file, &TIME_S, SeriesKind::F64)?;
         Ok(Self {
             path: path.to_path_buf(),
             atomic,
@@ -164,6 +168,7 @@ impl ResultsWriter {
             wheelsets: None,
             bodies: 0,
             series: vec![time],
+            maker,
             written: 0,
             last_time_s: None,
         })
@@ -189,10 +194,10 @@ impl ResultsWriter {
         for (i, ws) in record.wheelsets.iter().enumerate() {
             let g = create_group(path, &self.file, &wheelset_group(i))?;
             attrs::write_str(path, &g, "name", &ws.name)?;
-            create_columns(path, &g, &WHEELSET_COLUMNS, &mut self.series)?;
+            create_columns(path, &self.maker, &g, &WHEELSET_COLUMNS, &mut self.series)?;
             for (wheel, wg) in ws.wheels.iter().zip(WHEEL_GROUPS) {
                 let g = create_group(path, &g, wg)?;
-                create_columns(path, &g, &WHEEL_COLUMNS, &mut self.series)?;
+                create_columns(path, &self.maker, &g, &WHEEL_COLUMNS, &mut self.series)?;
                 if let Some(n) = &wheel.nadal {
                     let values = [n.flange_angle_rad, n.friction, n.limit];
                     for (name, v) in NADAL_ATTRIBUTES.into_iter().zip(values) {
@@ -201,11 +206,11 @@ impl ResultsWriter {
                 }
                 for zg in ZONE_GROUPS {
                     let g = create_group(path, &g, zg)?;
-                    create_columns(path, &g, &ZONE_COLUMNS, &mut self.series)?;
+                    create_columns(path, &self.maker, &g, &ZONE_COLUMNS, &mut self.series)?;
                 }
             }
         }
-        super::results_bodies::create(path, &self.file, record, &mut self.series)?;
+        super::results_bodies::create(path, &self.maker, &self.file, record, &mut self.series)?;
         self.bodies = record.bodies.len();
         self.wheelsets = Some(record.wheelsets.len());
         Ok(())
