@@ -56,9 +56,10 @@ impl<'a> Stream<'a> {
                 t_s,
                 message: e.message,
             })?;
-        self.view
-            .get_or_insert_with(|| DecimatedView::new(&chunk, VIEW_MAX_SAMPLES))
-            .add(&chunk);
+        match &mut self.view {
+            Some(view) => view.add(&chunk),
+            None => self.view = Some(DecimatedView::from_first(chunk, VIEW_MAX_SAMPLES)),
+        }
         Ok(())
     }
 
