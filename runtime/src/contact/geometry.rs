@@ -66,7 +66,7 @@ impl SurfaceParams {
 }
 
 /// Everything computed at one point `x` of the equations.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct PairEval {
     pub residual: Vector4<f64>,
     pub jacobian: Matrix4<f64>,
@@ -153,8 +153,17 @@ impl<'a> Pair<'a> {
     }
 
     /// Residual and Jacobian at `x`.
-    #[inline]
     pub fn eval(&self, x: &Vector4<f64>) -> Result<PairEval, TrackError> {
+        let mut e = PairEval::default();
+        self.eval_into(x, &mut e)?;
+        Ok(e)
+    }
+
+    /// [`Self::eval`] written into `out` (every field; left untouched on
+    /// an error): the Newton iteration reuses one evaluation's storage
+    /// instead of moving the large result around.
+    #[inline]
+    pub fn eval_into(&self, x: &Vector4<f64>, out: &mut PairEval) -> Result<(), TrackError> {
         let (s_r, u_r, s_w, u_w) = (x[0], x[1], x[2], x[3]);
         let sg = self.sigma;
         // Rail.
@@ -197,7 +206,7 @@ impl<'a> Pair<'a> {
             -r_r_s.dot(&t1), -r_r_u.dot(&t1), r_w_s.dot(&t1) + d.dot(&t1_s), r_w_u.dot(&t1),
             -r_r_s.dot(&t2), -r_r_u.dot(&t2), r_w_s.dot(&t2) + d.dot(&t2_s), r_w_u.dot(&t2) + d.dot(&t2_u),
         );
-        Ok(PairEval {
+        *out = PairEval {
             residual,
             jacobian,
             wheel_point: r_w,
@@ -207,6 +216,7 @@ impl<'a> Pair<'a> {
             rail_d: rd,
             rail_profile: rp,
             wheel_profile: wp,
-        })
+        };
+        Ok(())
     }
 }

@@ -4,7 +4,7 @@
 use nalgebra::Vector4;
 
 use super::candidate::{Candidate, SolveMethod, from_eval};
-use super::geometry::{Pair, SurfaceParams};
+use super::geometry::{Pair, PairEval, SurfaceParams};
 use super::search::RailSlopes;
 use super::{ContactError, ContactOptions, WheelsetPose, newton, search};
 use crate::geometry::profile::{
@@ -179,8 +179,12 @@ impl WheelsetContactModel {
         let Some(pair) = self.pair(track, pose, side, segment) else {
             return (None, 0);
         };
-        match newton::solve(&pair, guess.to_vector(), options.max_iterations) {
-            Ok(c) => (self.accept(&pair, side, segment, &c, false), c.iterations),
+        let mut eval = PairEval::default();
+        match newton::solve(&pair, guess.to_vector(), options.max_iterations, &mut eval) {
+            Ok(c) => (
+                self.accept(&pair, side, segment, &c, &eval, false),
+                c.iterations,
+            ),
             Err(f) => (None, f.iterations),
         }
     }
@@ -212,12 +216,13 @@ impl WheelsetContactModel {
         let s_rail0 = track.centerline.rail_l(side, pose.s_track_m)?;
         let found = search::search(&pair, &self.slopes[side_index(side)], s_rail0);
         let mut out: Vec<Candidate> = Vec::new();
+        let mut eval = PairEval::default();
         for &x0 in &found.starts {
-            match newton::solve(&pair, x0, max_iterations) {
+            match newton::solve(&pair, x0, max_iterations, &mut eval) {
                 Ok(c) => {
                     any_converged = true;
                     total_iterations += c.iterations;
-                    if let Some(cand) = self.accept(&pair, side, segment, &c, true)
+                    if let Some(cand) = self.accept(&pair, side, segment, &c, &eval, true)
                         && !out.iter().any(|o| same_contact(o, &cand))
                     {
                         out.push(cand);
@@ -381,13 +386,14 @@ impl WheelsetContactModel {
     /// beyond [`MAX_S_WHEEL_RAD`], or a maximum of the gap (the stationary
     /// point between two patches, [`Candidate::is_gap_minimum`]). A solution
     /// outside the piece `segment` that was solved but on another piece of
-    /// the wheel is that piece's.
+    /// the wheel is that piece's. `eval` is the evaluation at `c.x`.
     fn accept(
         &self,
         pair: &Pair<'_>,
         side: Side,
         segment: usize,
         c: &newton::Converged,
+        eval: &PairEval,
         cold: bool,
     ) -> Option<Candidate> {
         let x: Vector4<f64> = c.x;
@@ -414,7 +420,7 @@ impl WheelsetContactModel {
             SurfaceParams::from_vector(&x),
             c.iterations,
             cold,
-            &c.eval,
+            eval,
             sg,
             wheel.nominal_radius_m(),
             self.placement.inclination_rad,

@@ -21,11 +21,11 @@ const MERIT_LENGTH_M: f64 = 0.01;
 /// Step halvings tried by the line search.
 const MAX_HALVINGS: u32 = 8;
 
-/// A converged solve.
+/// A converged solve; the evaluation at `x` is the one left in the
+/// storage the solve was given.
 pub(crate) struct Converged {
     pub x: Vector4<f64>,
     pub iterations: u32,
-    pub eval: PairEval,
 }
 
 /// A failed solve: the state where it stopped.
@@ -41,11 +41,17 @@ fn merit(e: &PairEval) -> f64 {
     r[0] * r[0] + r[1] * r[1] + a * a + b * b
 }
 
-/// Solve from `x0` with at most `max_iterations` Newton steps.
+/// Solve from `x0` with at most `max_iterations` Newton steps, evaluating
+/// into `e` (one storage for every evaluation, nothing copied): on
+/// convergence it holds the evaluation at the returned `x`. A trial point
+/// of the line search overwrites the current evaluation, whose Jacobian
+/// has been used by then; only its residual is kept aside, for the
+/// failure's report.
 pub(crate) fn solve(
     pair: &Pair<'_>,
     x0: Vector4<f64>,
     max_iterations: u32,
+    e: &mut PairEval,
 ) -> Result<Converged, Failed> {
     let fail = |x, iterations, residual| Failed {
         x,
@@ -53,9 +59,9 @@ pub(crate) fn solve(
         residual,
     };
     let mut x = x0;
-    let Ok(mut e) = pair.eval(&x) else {
+    if pair.eval_into(&x, e).is_err() {
         return Err(fail(x, 0, f64::INFINITY));
-    };
+    }
     for it in 0..max_iterations {
         let Some(step) = lu4::solve(&e.jacobian, &(-e.residual)) else {
             return Err(fail(x, it, e.residual.amax()));
@@ -81,35 +87,32 @@ pub(crate) fn solve(
             return Ok(Converged {
                 x,
                 iterations: it + 1,
-                eval: e,
             });
         }
         // Backtracking on the merit function; a converging step is taken whole.
-        let m0 = merit(&e);
+        let m0 = merit(e);
+        let residual = e.residual;
         let mut lambda = 1.0;
         let mut accepted = false;
         for _ in 0..=MAX_HALVINGS {
             let xt = x + full * lambda;
-            // Taken in place (no intermediate copy of the evaluation).
-            if let Ok(et) = pair.eval(&xt)
-                && (converging || merit(&et) < m0 * (1.0 - 1e-4 * lambda))
+            if pair.eval_into(&xt, e).is_ok()
+                && (converging || merit(e) < m0 * (1.0 - 1e-4 * lambda))
             {
                 x = xt;
-                e = et;
                 accepted = true;
                 break;
             }
             lambda *= 0.5;
         }
         if !accepted {
-            return Err(fail(x, it + 1, e.residual.amax()));
+            return Err(fail(x, it + 1, residual.amax()));
         }
         if converging {
             return if e.residual.amax() < RESIDUAL_TOL {
                 Ok(Converged {
                     x,
                     iterations: it + 1,
-                    eval: e,
                 })
             } else {
                 Err(fail(x, it + 1, e.residual.amax()))

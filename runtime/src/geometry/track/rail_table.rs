@@ -188,7 +188,7 @@ impl RailTable {
 /// Derivatives with respect to L of the linearly interpolated rail
 /// quantities: constant over each table interval (the row difference over
 /// the step), consistent with the linear interpolation of paper §2g.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct RailPointDerivative {
     /// dp/dL (–), ≈ t.
     pub position: Vector3<f64>,
