@@ -244,19 +244,22 @@ impl VehicleSystem<'_> {
             let (start, len) = (self.internal_offsets[idx], e.internal_len());
             // A Jacobian column (`rhs_column`) that does not touch this
             // element: its force is the accepted state's.
-            let f = match self.column {
+            // Written in place and read by reference (an anchor and a
+            // force are a hundred bytes or more each: copies showed in the
+            // profile).
+            self.element_forces[idx] = match self.column {
                 Some(c) if !c.touches(ia, ib, start..start + len) => {
                     self.accepted_element_forces[idx]
                 }
                 _ => {
-                    let a = ia.map_or(ground, |k| self.anchors[k]);
-                    let b = ib.map_or(ground, |k| self.anchors[k]);
+                    let a = ia.map_or(&ground, |k| &self.anchors[k]);
+                    let b = ib.map_or(&ground, |k| &self.anchors[k]);
                     // Only body anchors have track axes; references' are the track's.
                     let axes = ia.and_then(|k| self.element_axes.get(k));
-                    e.evaluate_along(&a, &b, &self.internal[start..start + len], axes)
+                    e.evaluate_along(a, b, &self.internal[start..start + len], axes)
                 }
             };
-            self.element_forces[idx] = f;
+            let f = &self.element_forces[idx];
             self.internal_rates[start..start + len].copy_from_slice(&f.internal_rate_m_s[..len]);
             if let Some(k) = ia.filter(|&k| k < n_bodies) {
                 let cg = self.states[k].position_m;
