@@ -172,16 +172,11 @@ impl VehicleSystem<'_> {
         for (st, body) in self.states.iter().zip(bodies) {
             e += st.kinetic_energy_j(body) + st.potential_energy_j(body, &g);
         }
-        let ground = Anchor::fixed(Vector3::zeros(), Matrix3::identity());
-        for (idx, (el, spec)) in self.elements.iter().zip(&vehicle.elements).enumerate() {
-            let ia = self.anchor_index(spec.a);
-            let a = ia.map_or(ground, |k| self.anchors[k]);
-            let b = self
-                .anchor_index(spec.b)
-                .map_or(ground, |k| self.anchors[k]);
+        // The elements' deflections are the last evaluation's (its
+        // `element_forces`, at the same anchors and internal states).
+        for (idx, el) in self.elements.iter().enumerate() {
             let q = self.element_internal(idx);
-            let axes = ia.and_then(|k| self.element_axes.get(k));
-            e += el.potential_energy_j(&el.evaluate_along(&a, &b, q, axes).deflection_m, q);
+            e += el.potential_energy_j(&self.element_forces[idx].deflection_m, q);
         }
         e + self.contact_elastic_energy_j()
     }
@@ -259,13 +254,15 @@ impl VehicleSystem<'_> {
         for (idx, (el, spec)) in self.elements.iter().zip(&vehicle.elements).enumerate() {
             let ia = self.anchor_index(spec.a);
             let ib = self.anchor_index(spec.b);
-            let a = ia.map_or(ground, |k| self.anchors[k]);
-            let b = ib.map_or(ground, |k| self.anchors[k]);
+            let a = ia.map_or(&ground, |k| &self.anchors[k]);
+            let b = ib.map_or(&ground, |k| &self.anchors[k]);
             let q = self.element_internal(idx);
             // The axes the element acts along: a's, or the track's
             // (`ElementAxes::Track`, kept by the last evaluation).
             let axes = ia.and_then(|k| self.element_axes.get(k));
-            let f = el.evaluate_along(&a, &b, q, axes);
+            // The element's force at the last evaluated state, as that
+            // evaluation computed it (the same anchors and internal states).
+            let f = &self.element_forces[idx];
             // Velocity of a point p of an anchor: v + ω × (p − origin).
             let point_velocity = |an: &Anchor, point: &Vector3<f64>| {
                 an.velocity_m_s + an.angular_velocity_rad_s.cross(&(point - an.position_m))
@@ -273,10 +270,10 @@ impl VehicleSystem<'_> {
             // The reference's driver does on the element the work the
             // element does on the reference, negated.
             if ia.is_some_and(|k| k >= n_refs_from) {
-                p[1] -= f.force_on_a_n().dot(&point_velocity(&a, &f.point_a_m));
+                p[1] -= f.force_on_a_n().dot(&point_velocity(a, &f.point_a_m));
             }
             if ib.is_some_and(|k| k >= n_refs_from) {
-                p[1] -= f.force_on_b_n.dot(&point_velocity(&b, &f.point_b_m));
+                p[1] -= f.force_on_b_n.dot(&point_velocity(b, &f.point_b_m));
             }
             p[4] += el.dissipated_power_w(&f.deflection_m, &f.rate_m_s, q);
             // The elements' directions turn with a: their forces on the
