@@ -8,7 +8,9 @@
 //! updates `a_rk ← (−a_ik)·l_r + a_rk`, unit lower then upper triangular
 //! substitution), so its results are bit-identical to it (checked by the
 //! tests below); it only avoids the generic code's permutation sequence,
-//! views and loops over dynamic ranges.
+//! views and loops over dynamic ranges. It works on the matrix's own
+//! column-major storage (no transposed copy): the multipliers, the column
+//! updates and both substitutions then read and write whole columns.
 
 use nalgebra::{Matrix4, Vector4};
 
@@ -16,20 +18,16 @@ use nalgebra::{Matrix4, Vector4};
 /// as nalgebra's `LU::solve`.
 #[inline]
 pub(crate) fn solve(a: &Matrix4<f64>, b: &Vector4<f64>) -> Option<Vector4<f64>> {
-    // m[r][c], row-major working copy; x the permuted right-hand side (the
-    // row swaps applied to it as they are made, as nalgebra's permutation
-    // sequence applies them in order before the substitutions).
-    let mut m = [[0.0_f64; 4]; 4];
-    for (r, row) in m.iter_mut().enumerate() {
-        for (c, v) in row.iter_mut().enumerate() {
-            *v = a[(r, c)];
-        }
-    }
-    let mut x = [b[0], b[1], b[2], b[3]];
-    eliminate::<0>(&mut m, &mut x);
-    eliminate::<1>(&mut m, &mut x);
-    eliminate::<2>(&mut m, &mut x);
-    eliminate::<3>(&mut m, &mut x);
+    // m[c][r]: column c, row r (nalgebra's storage); x the permuted
+    // right-hand side (the row swaps applied to it as they are made, as
+    // nalgebra's permutation sequence applies them in order before the
+    // substitutions).
+    let mut m: [[f64; 4]; 4] = a.data.0;
+    let [mut x] = b.data.0;
+    eliminate::<0>(&mut m, &mut x)?;
+    eliminate::<1>(&mut m, &mut x)?;
+    eliminate::<2>(&mut m, &mut x)?;
+    eliminate::<3>(&mut m, &mut x)?;
     // L (unit diagonal).
     forward::<0>(&m, &mut x);
     forward::<1>(&m, &mut x);
@@ -45,35 +43,40 @@ pub(crate) fn solve(a: &Matrix4<f64>, b: &Vector4<f64>) -> Option<Vector4<f64>> 
 /// Column `I` of the elimination: pivot (first row of largest |a|), row
 /// swap, multipliers `l_r = a_rI·(1/pivot)`, updates `a_rk ← a_rk + (−a_Ik)·l_r`.
 /// Constant `I` lets every loop unroll.
+///
+/// `None` when the column has no non-zero entry from row `I` down: nalgebra
+/// skips the step, and U's diagonal entry `I` stays zero (later steps change
+/// only the rows below), so its solve returns `None` too.
 #[inline(always)]
-fn eliminate<const I: usize>(m: &mut [[f64; 4]; 4], x: &mut [f64; 4]) {
-    let mut piv = I;
-    let mut max = m[I][I].abs();
-    for (r, row) in m.iter().enumerate().skip(I + 1) {
-        let v = row[I].abs();
-        if v > max {
-            max = v;
-            piv = r;
-        }
-    }
-    let diag = m[piv][I];
+fn eliminate<const I: usize>(m: &mut [[f64; 4]; 4], x: &mut [f64; 4]) -> Option<()> {
+    let col = &m[I];
+    let (piv, _) = (I + 1..4).fold((I, col[I].abs()), |(piv, max), r| {
+        let v = col[r].abs();
+        if v > max { (r, v) } else { (piv, max) }
+    });
+    let diag = m[I][piv];
     if diag == 0.0 {
-        // No non-zero entry in this column: nalgebra skips the step.
-        return;
+        return None;
     }
     if piv != I {
-        m.swap(I, piv);
+        for col in m.iter_mut() {
+            col.swap(I, piv);
+        }
         x.swap(I, piv);
     }
     let inv_diag = 1.0 / diag;
-    let pivot_row = m[I];
-    for row in m.iter_mut().skip(I + 1) {
-        row[I] *= inv_diag;
-        let l = row[I];
-        for k in I + 1..4 {
-            row[k] += (-pivot_row[k]) * l;
+    let (done, rest) = m.split_at_mut(I + 1);
+    let l = &mut done[I];
+    for v in &mut l[I + 1..] {
+        *v *= inv_diag;
+    }
+    for col in rest {
+        let p = -col[I];
+        for r in I + 1..4 {
+            col[r] += p * l[r];
         }
     }
+    Some(())
 }
 
 /// Forward substitution with L's column `I` (unit diagonal).
@@ -81,7 +84,7 @@ fn eliminate<const I: usize>(m: &mut [[f64; 4]; 4], x: &mut [f64; 4]) {
 fn forward<const I: usize>(m: &[[f64; 4]; 4], x: &mut [f64; 4]) {
     let coeff = x[I];
     for r in I + 1..4 {
-        x[r] += (-coeff) * m[r][I];
+        x[r] += (-coeff) * m[I][r];
     }
 }
 
@@ -95,7 +98,7 @@ fn backward<const I: usize>(m: &[[f64; 4]; 4], x: &mut [f64; 4]) -> Option<()> {
     let coeff = x[I] / diag;
     x[I] = coeff;
     for r in 0..I {
-        x[r] += (-coeff) * m[r][I];
+        x[r] += (-coeff) * m[I][r];
     }
     Some(())
 }
