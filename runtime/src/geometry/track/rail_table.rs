@@ -75,6 +75,8 @@ pub struct RailTable {
     side: Side,
     rows: Vec<RailRow>,
     grid: UniformGrid,
+    /// L of the first and the last row (m).
+    range_m: (f64, f64),
 }
 
 impl RailTable {
@@ -90,7 +92,17 @@ impl RailTable {
                 rule: "L must increase in uniform steps (the last step may be shorter)".into(),
             }
         })?;
-        Ok(Self { side, rows, grid })
+        let range_m = match (rows.first(), rows.last()) {
+            (Some(first), Some(last)) => (first.l_m, last.l_m),
+            // check_rows has refused a table of fewer than two rows.
+            _ => (f64::NAN, f64::NAN),
+        };
+        Ok(Self {
+            side,
+            rows,
+            grid,
+            range_m,
+        })
     }
 
     /// Which rail this is.
@@ -110,7 +122,7 @@ impl RailTable {
 
     /// Range of L covered: `(first, last)` (m).
     pub fn range_m(&self) -> (f64, f64) {
-        (self.rows[0].l_m, self.rows[self.rows.len() - 1].l_m)
+        self.range_m
     }
 
     /// Position and frame at arc length `l_m` by linear interpolation between
@@ -121,7 +133,8 @@ impl RailTable {
     #[inline]
     pub fn at(&self, l_m: f64) -> Result<RailPoint, TrackError> {
         let (i, f) = self.locate_checked(l_m)?;
-        Ok(self.interpolate(l_m, i, f))
+        let (r0, r1) = self.interval_rows(l_m, i)?;
+        Ok(interpolate(l_m, r0, r1, f))
     }
 
     /// The position of [`Self::at`] alone (m): the same values, without
@@ -129,7 +142,8 @@ impl RailTable {
     #[inline]
     pub fn position_at(&self, l_m: f64) -> Result<Vector3<f64>, TrackError> {
         let (i, f) = self.locate_checked(l_m)?;
-        Ok(lerp3(f, &self.rows[i].position, &self.rows[i + 1].position))
+        let (r0, r1) = self.interval_rows(l_m, i)?;
+        Ok(lerp3(f, &r0.position, &r1.position))
     }
 
     /// Interval and fraction of `l_m`, or [`TrackError::OutOfRange`].
@@ -145,15 +159,33 @@ impl RailTable {
     fn check_range(&self, l_m: f64) -> Result<(), TrackError> {
         let (lo, hi) = self.range_m();
         if !within(l_m, lo, hi, 1e-9) {
-            return Err(TrackError::OutOfRange {
-                table: self.side.rail_name(),
-                coordinate: "L",
-                value_m: l_m,
-                min_m: lo,
-                max_m: hi,
-            });
+            return Err(self.out_of_range(l_m));
         }
         Ok(())
+    }
+
+    /// The error for `l_m` outside the table.
+    #[cold]
+    fn out_of_range(&self, l_m: f64) -> TrackError {
+        let (lo, hi) = self.range_m();
+        TrackError::OutOfRange {
+            table: self.side.rail_name(),
+            coordinate: "L",
+            value_m: l_m,
+            min_m: lo,
+            max_m: hi,
+        }
+    }
+
+    /// Rows `i` and `i + 1`, the ends of interval `i` (one bounds check for
+    /// both); the interval of a located `l_m` always has them, an error
+    /// otherwise.
+    #[inline(always)]
+    fn interval_rows(&self, l_m: f64, i: usize) -> Result<(&RailRow, &RailRow), TrackError> {
+        match self.rows.get(i..) {
+            Some([r0, r1, ..]) => Ok((r0, r1)),
+            _ => Err(self.out_of_range(l_m)),
+        }
     }
 
     /// [`Self::locate_checked`] from the interval `hint`
@@ -167,21 +199,20 @@ impl RailTable {
         self.check_range(l_m)?;
         Ok(self.grid.locate_near(l_m, hint, |k| self.rows[k].l_m))
     }
+}
 
-    /// The point at fraction `f` of interval `i`.
-    #[inline]
-    fn interpolate(&self, l_m: f64, i: usize, f: f64) -> RailPoint {
-        let (r0, r1) = (&self.rows[i], &self.rows[i + 1]);
-        let lerp = |a, b| lerp3(f, a, b);
-        RailPoint {
-            l_m,
-            position: lerp(&r0.position, &r1.position),
-            frame: Frame {
-                t: lerp(&r0.t, &r1.t),
-                n: lerp(&r0.n, &r1.n),
-                b: lerp(&r0.b, &r1.b),
-            },
-        }
+/// The point at fraction `f` of the interval from row `r0` to row `r1`.
+#[inline(always)]
+fn interpolate(l_m: f64, r0: &RailRow, r1: &RailRow, f: f64) -> RailPoint {
+    let lerp = |a, b| lerp3(f, a, b);
+    RailPoint {
+        l_m,
+        position: lerp(&r0.position, &r1.position),
+        frame: Frame {
+            t: lerp(&r0.t, &r1.t),
+            n: lerp(&r0.n, &r1.n),
+            b: lerp(&r0.b, &r1.b),
+        },
     }
 }
 
@@ -208,7 +239,7 @@ impl RailTable {
         // One interval lookup serves the point and its derivatives (the
         // same interval `at` finds, so the same values).
         let (i, f) = self.locate_checked(l_m)?;
-        Ok(self.with_derivative(l_m, i, f))
+        self.with_derivative(l_m, i, f)
     }
 
     /// [`Self::at_with_derivative`], looking the interval up from `hint`
@@ -221,14 +252,19 @@ impl RailTable {
         hint: &Cell<usize>,
     ) -> Result<(RailPoint, RailPointDerivative), TrackError> {
         let (i, f) = self.locate_checked_near(l_m, hint)?;
-        Ok(self.with_derivative(l_m, i, f))
+        self.with_derivative(l_m, i, f)
     }
 
     /// Point and derivatives at fraction `f` of interval `i`.
-    #[inline]
-    fn with_derivative(&self, l_m: f64, i: usize, f: f64) -> (RailPoint, RailPointDerivative) {
-        let (r0, r1) = (&self.rows[i], &self.rows[i + 1]);
-        let p = self.interpolate(l_m, i, f);
+    #[inline(always)]
+    fn with_derivative(
+        &self,
+        l_m: f64,
+        i: usize,
+        f: f64,
+    ) -> Result<(RailPoint, RailPointDerivative), TrackError> {
+        let (r0, r1) = self.interval_rows(l_m, i)?;
+        let p = interpolate(l_m, r0, r1, f);
         let inv = 1.0 / (r1.l_m - r0.l_m);
         let diff = |a: &[f64; 3], b: &[f64; 3]| {
             Vector3::new(
@@ -237,7 +273,7 @@ impl RailTable {
                 (b[2] - a[2]) * inv,
             )
         };
-        (
+        Ok((
             p,
             RailPointDerivative {
                 position: diff(&r0.position, &r1.position),
@@ -245,7 +281,7 @@ impl RailTable {
                 n: diff(&r0.n, &r1.n),
                 b: diff(&r0.b, &r1.b),
             },
-        )
+        ))
     }
 }
 
