@@ -7,7 +7,7 @@ use anyhow::{Context, Result, anyhow, ensure};
 use nalgebra::{Matrix3, Vector3};
 use runtime::contact::WheelsetContactModel;
 use runtime::geometry::profile::{
-    ProfileWarning, RailPlacement, RailProfileOptions, WheelProfileOptions,
+    ProfileWarning, RailPlacement, RailProfileOptions, WheelProfile, WheelProfileOptions,
 };
 use runtime::geometry::track::TrackTables;
 use runtime::io::profile_import::{ImportOptions, load_rail, load_wheel};
@@ -48,25 +48,35 @@ pub fn vehicle_model(
         inclination_rad: track.meta.rail_inclination_rad,
     };
     let mut wheelsets = Vec::new();
+    // Profiles loaded so far, by file and nominal radius: a car's wheelsets
+    // usually share one file, loaded (read, fitted) once.
+    let mut loaded_wheels: Vec<((std::path::PathBuf, u64), WheelProfile)> = Vec::new();
     for w in &v.wheelsets {
         let path = v.profile_path(w);
-        let loaded = load_wheel(
-            &path,
-            &ImportOptions::default(),
-            WheelProfileOptions {
-                nominal_radius_m: w.nominal_radius_m,
-                keep_longest_stretch,
-                ..Default::default()
-            },
-        )
-        .with_context(|| format!("wheel profile {}", path.display()))?;
-        // Wheelsets sharing a profile file warn once.
-        for warning in loaded.warnings {
-            if !warnings.contains(&warning) {
-                warnings.push(warning);
+        let key = (path.clone(), w.nominal_radius_m.to_bits());
+        let wheel = match loaded_wheels.iter().find(|(k, _)| *k == key) {
+            Some((_, wheel)) => wheel.clone(),
+            None => {
+                let loaded = load_wheel(
+                    &path,
+                    &ImportOptions::default(),
+                    WheelProfileOptions {
+                        nominal_radius_m: w.nominal_radius_m,
+                        keep_longest_stretch,
+                        ..Default::default()
+                    },
+                )
+                .with_context(|| format!("wheel profile {}", path.display()))?;
+                // Wheelsets sharing a profile file warn once.
+                for warning in loaded.warnings {
+                    if !warnings.contains(&warning) {
+                        warnings.push(warning);
+                    }
+                }
+                loaded_wheels.push((key, loaded.profile.clone()));
+                loaded.profile
             }
-        }
-        let wheel = loaded.profile;
+        };
         let contact = WheelsetContactModel::new(
             wheel.clone(),
             wheel,
