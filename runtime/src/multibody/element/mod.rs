@@ -342,13 +342,19 @@ impl SpringDamper {
         let (rotation, omega) = axes.map_or((a.rotation, a.angular_velocity_rad_s), |f| {
             (f.rotation, f.angular_velocity_rad_s)
         });
-        let point_a_m = a.point_position(&self.point_a_m);
-        let point_b_m = b.point_position(&self.point_b_m);
+        // Each attachment point's lever arm R p, once for its position and
+        // its velocity (the values of `Anchor::point_position` and
+        // `Anchor::point_velocity`).
+        let arm_a_m = a.rotation * self.point_a_m;
+        let arm_b_m = b.rotation * self.point_b_m;
+        let point_a_m = a.position_m + arm_a_m;
+        let point_b_m = b.position_m + arm_b_m;
+        let velocity_a_m_s = a.velocity_m_s + a.angular_velocity_rad_s.cross(&arm_a_m);
+        let velocity_b_m_s = b.velocity_m_s + b.angular_velocity_rad_s.cross(&arm_b_m);
         let rt = rotation.transpose();
         let delta = rt * (point_b_m - point_a_m);
         let w_local = rt * omega;
-        let rate_m_s = rt * (b.point_velocity(&self.point_b_m) - a.point_velocity(&self.point_a_m))
-            - w_local.cross(&delta);
+        let rate_m_s = rt * (velocity_b_m_s - velocity_a_m_s) - w_local.cross(&delta);
         let deflection_m = delta - self.reference_offset_m;
         let k = Vector3::from(self.stiffness_n_m);
         let c = Vector3::from(self.damping_n_s_m);
