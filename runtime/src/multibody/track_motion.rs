@@ -22,7 +22,12 @@ pub fn project_s(
     let mut s = s_guess.clamp(lo, hi);
     for _ in 0..PROJECTION_ITERATIONS {
         let c = centerline.at(s)?;
-        s += (position - c.position).dot(&c.frame.t.normalize());
+        let step = (position - c.position).dot(&c.frame.t.normalize());
+        if step == 0.0 {
+            // A fixed point: the remaining iterations would repeat this one.
+            break;
+        }
+        s += step;
         if !(s >= lo && s <= hi) {
             // Report the point itself as off the tables.
             return Err(TrackError::OutOfRange {
