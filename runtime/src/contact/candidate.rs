@@ -120,6 +120,7 @@ pub const FLAT_RELATIVE_CURVATURE_1_M: f64 = 0.05;
 
 /// Build a candidate from a converged evaluation.
 #[allow(clippy::too_many_arguments)]
+#[inline]
 pub(crate) fn from_eval(
     side: Side,
     zone: Zone,

@@ -167,6 +167,7 @@ impl WheelsetContactModel {
     /// the gap on the wheel's profile (possibly on a neighbouring piece: the
     /// candidate names the piece it lies on). Also returns the iterations
     /// spent.
+    #[inline]
     pub(crate) fn follow(
         &self,
         track: &TrackTables,
@@ -387,6 +388,7 @@ impl WheelsetContactModel {
     /// point between two patches, [`Candidate::is_gap_minimum`]). A solution
     /// outside the piece `segment` that was solved but on another piece of
     /// the wheel is that piece's. `eval` is the evaluation at `c.x`.
+    #[inline]
     fn accept(
         &self,
         pair: &Pair<'_>,
