@@ -184,6 +184,13 @@ fn run_session(
         }));
     }
     let mut recorder = Recorder::new(&system);
+    // The samples of the run (or of its first chunk), reserved at once.
+    let expected_samples = (total_s / scene.run.output_interval_s).ceil() + 2.0;
+    if expected_samples.is_finite() && expected_samples > 0.0 {
+        recorder
+            .results
+            .reserve((expected_samples as usize).min(stream::FLUSH_SAMPLES));
+    }
     let mut tripped: Option<String> = None;
     // Remembers the state of each evaluation for the diagnostic of a failure.
     let mut watched = crate::run::diagnostics::Watched::new(&mut system);
