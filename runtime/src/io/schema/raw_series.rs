@@ -7,8 +7,8 @@
 //! and write. A run's file holds 200–440 series, each with its `units` and
 //! `description` attributes, and that overhead was more than half of the
 //! file's cost (callgrind, 438 series of 1 000 samples: 237 M instructions
-//! through the crate, 102 M here; docs/reference/08-multibody.md §8.5,
-//! "Results file"). The layout is the crate's: chunked
+//! through the crate, 102 M here; docs/reference/04-table-files.md, the
+//! results file). The layout is the crate's: chunked
 //! ([`super::RESULTS_CHUNK_SAMPLES`]), extendable, fill time `alloc`,
 //! attributes as variable-length UTF-8 strings.
 //!
