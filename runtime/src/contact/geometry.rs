@@ -82,6 +82,32 @@ pub(crate) struct PairEval {
     pub wheel_profile: CurvePoint,
 }
 
+/// Where a pair's lookups start: the rail head's and the wheel curve's
+/// spline pieces and the rail table's interval of an evaluation (see
+/// [`Pair`]). A hint changes how a piece is found, never which piece: any
+/// value, even one of another curve or out of range, gives the same bits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct PieceHints {
+    pub rail_piece: usize,
+    pub wheel_piece: usize,
+    pub rail_row: usize,
+}
+
+impl PieceHints {
+    /// No hint: the first lookups search.
+    pub const NONE: Self = Self {
+        rail_piece: usize::MAX,
+        wheel_piece: usize::MAX,
+        rail_row: usize::MAX,
+    };
+}
+
+impl Default for PieceHints {
+    fn default() -> Self {
+        Self::NONE
+    }
+}
+
 /// One wheel–rail pair and zone, ready to be evaluated.
 pub(crate) struct Pair<'a> {
     pub rail_table: &'a RailTable,
@@ -140,6 +166,26 @@ impl<'a> Pair<'a> {
                 pose.frame.column(1).into_owned(),
                 pose.frame.column(2).into_owned(),
             ],
+        }
+    }
+
+    /// Start the next lookups from `h` (e.g. the pieces of the same patch's
+    /// last solve): the same values, found without a search while the
+    /// iterates stay on or next to them.
+    #[inline]
+    pub fn set_hints(&self, h: PieceHints) {
+        self.rail_piece.set(h.rail_piece);
+        self.wheel_piece.set(h.wheel_piece);
+        self.rail_row.set(h.rail_row);
+    }
+
+    /// The pieces and interval of the last evaluation.
+    #[inline]
+    pub fn hints(&self) -> PieceHints {
+        PieceHints {
+            rail_piece: self.rail_piece.get(),
+            wheel_piece: self.wheel_piece.get(),
+            rail_row: self.rail_row.get(),
         }
     }
 

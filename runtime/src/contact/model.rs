@@ -4,7 +4,7 @@
 use nalgebra::Vector4;
 
 use super::candidate::{Candidate, SolveMethod, from_eval};
-use super::geometry::{Pair, PairEval, SurfaceParams};
+use super::geometry::{Pair, PairEval, PieceHints, SurfaceParams};
 use super::search::RailSlopes;
 use super::{ContactError, ContactOptions, WheelsetPose, newton, search};
 use crate::geometry::profile::{
@@ -151,7 +151,8 @@ impl WheelsetContactModel {
         options: &ContactOptions,
     ) -> Result<Option<Candidate>, ContactError> {
         if let Some(g) = guess {
-            let (found, _) = self.follow(track, pose, side, segment, g, options);
+            let mut hints = PieceHints::NONE;
+            let (found, _) = self.follow(track, pose, side, segment, g, &mut hints, options);
             if let Some(c) = found.filter(|c| c.segment == segment) {
                 return Ok(Some(c));
             }
@@ -166,8 +167,10 @@ impl WheelsetContactModel {
     /// Newton's method from it, accepted when it converges to a minimum of
     /// the gap on the wheel's profile (possibly on a neighbouring piece: the
     /// candidate names the piece it lies on). Also returns the iterations
-    /// spent.
+    /// spent. The lookups start from `hints` (the same results whatever
+    /// they hold), which are left at the last evaluation's pieces.
     #[inline]
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn follow(
         &self,
         track: &TrackTables,
@@ -175,13 +178,17 @@ impl WheelsetContactModel {
         side: Side,
         segment: usize,
         guess: SurfaceParams,
+        hints: &mut PieceHints,
         options: &ContactOptions,
     ) -> (Option<Candidate>, u32) {
         let Some(pair) = self.pair(track, pose, side, segment) else {
             return (None, 0);
         };
+        pair.set_hints(*hints);
         let mut eval = PairEval::default();
-        match newton::solve(&pair, guess.to_vector(), options.max_iterations, &mut eval) {
+        let solved = newton::solve(&pair, guess.to_vector(), options.max_iterations, &mut eval);
+        *hints = pair.hints();
+        match solved {
             Ok(c) => (
                 self.accept(&pair, side, segment, &c, &eval, false),
                 c.iterations,

@@ -6,7 +6,7 @@
 use nalgebra::Vector3;
 
 use super::candidate::Candidate;
-use super::geometry::SurfaceParams;
+use super::geometry::{PieceHints, SurfaceParams};
 use super::model::{WheelsetContactModel, same_contact};
 use super::{ContactError, WheelsetPose};
 use crate::geometry::profile::{MAX_SEGMENTS, Zone};
@@ -166,6 +166,9 @@ struct Warm {
     gap_m: f64,
     /// The solve before, for the linear predictor.
     previous: Option<(SurfaceParams, f64)>,
+    /// Where the lookups of its last follow ended (the next follow starts
+    /// there: the same values, found without a search).
+    hints: PieceHints,
 }
 
 /// Largest change of a lateral surface parameter the predictor may add (m).
@@ -404,6 +407,8 @@ impl ContactSolver {
             // Patches on flange pieces the rule does not search now: kept
             // in memory, not reported.
             let mut parked = [false; MAX_SEGMENTS];
+            // The lookup hints each followed slot ended with.
+            let mut hints = [PieceHints::NONE; MAX_SEGMENTS];
             if stepping {
                 for (slot, park) in parked.iter_mut().enumerate() {
                     let Some(w) = self.warm[i][slot] else {
@@ -414,8 +419,16 @@ impl ContactSolver {
                         continue;
                     }
                     let guess = w.guess(l_now);
-                    let (c, iterations) =
-                        model.follow(track, pose, side, w.segment, guess, &self.options);
+                    hints[slot] = w.hints;
+                    let (c, iterations) = model.follow(
+                        track,
+                        pose,
+                        side,
+                        w.segment,
+                        guess,
+                        &mut hints[slot],
+                        &self.options,
+                    );
                     self.stats.solves += 1;
                     self.stats.iterations += u64::from(iterations);
                     match c {
@@ -506,6 +519,11 @@ impl ContactSolver {
                     rail_l_m: l_now,
                     gap_m: -c.penetration_m,
                     previous,
+                    hints: if followed.is_some() {
+                        hints[k]
+                    } else {
+                        PieceHints::NONE
+                    },
                 });
                 out.candidates[i][k] = Some(*c);
             }
