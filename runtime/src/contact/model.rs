@@ -150,25 +150,29 @@ impl WheelsetContactModel {
         guess: Option<SurfaceParams>,
         options: &ContactOptions,
     ) -> Result<Option<Candidate>, ContactError> {
-        if let Some(g) = guess {
+        // Every path returns `result`, so the candidate is written where
+        // the caller receives it (no copies).
+        let mut result = Ok(None);
+        if let (Some(g), Ok(found)) = (guess, &mut result) {
             let mut hints = PieceHints::NONE;
-            let (found, _) = self.follow(track, pose, side, segment, g, &mut hints, options);
-            if let Some(c) = found.filter(|c| c.segment == segment) {
-                return Ok(Some(c));
+            self.follow(track, pose, side, segment, g, &mut hints, options, found);
+            if found.as_ref().is_some_and(|c| c.segment == segment) {
+                return result;
             }
         }
-        Ok(self
-            .search_piece(track, pose, side, segment, options)?
-            .into_iter()
-            .find(|c| c.segment == segment))
+        result = self
+            .search_piece(track, pose, side, segment, options)
+            .map(|v| v.into_iter().find(|c| c.segment == segment));
+        result
     }
 
     /// Follow a patch from the previous solution `guess` (warm start):
     /// Newton's method from it, accepted when it converges to a minimum of
     /// the gap on the wheel's profile (possibly on a neighbouring piece: the
-    /// candidate names the piece it lies on). Also returns the iterations
-    /// spent. The lookups start from `hints` (the same results whatever
-    /// they hold), which are left at the last evaluation's pieces.
+    /// candidate names the piece it lies on), written into `found` (`None`
+    /// when none is accepted); returns the iterations spent. The lookups
+    /// start from `hints` (the same results whatever they hold), which are
+    /// left at the last evaluation's pieces.
     #[inline]
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn follow(
@@ -180,20 +184,25 @@ impl WheelsetContactModel {
         guess: SurfaceParams,
         hints: &mut PieceHints,
         options: &ContactOptions,
-    ) -> (Option<Candidate>, u32) {
+        found: &mut Option<Candidate>,
+    ) -> u32 {
         let Some(pair) = self.pair(track, pose, side, segment) else {
-            return (None, 0);
+            *found = None;
+            return 0;
         };
         pair.set_hints(*hints);
         let mut eval = PairEval::default();
         let solved = newton::solve(&pair, guess.to_vector(), options.max_iterations, &mut eval);
         *hints = pair.hints();
         match solved {
-            Ok(c) => (
-                self.accept(&pair, side, segment, &c, &eval, false),
-                c.iterations,
-            ),
-            Err(f) => (None, f.iterations),
+            Ok(c) => {
+                self.accept_into(&pair, side, segment, &c, &eval, false, found);
+                c.iterations
+            }
+            Err(f) => {
+                *found = None;
+                f.iterations
+            }
         }
     }
 
@@ -405,6 +414,24 @@ impl WheelsetContactModel {
         eval: &PairEval,
         cold: bool,
     ) -> Option<Candidate> {
+        let mut out = None;
+        self.accept_into(pair, side, segment, c, eval, cold, &mut out);
+        out
+    }
+
+    /// [`Self::accept`] written into `out` (the candidate built in place).
+    #[inline]
+    #[allow(clippy::too_many_arguments)]
+    fn accept_into(
+        &self,
+        pair: &Pair<'_>,
+        side: Side,
+        segment: usize,
+        c: &newton::Converged,
+        eval: &PairEval,
+        cold: bool,
+        out: &mut Option<Candidate>,
+    ) {
         let x: Vector4<f64> = c.x;
         let sg = pair.sigma;
         let u = sg * x[3];
@@ -412,17 +439,25 @@ impl WheelsetContactModel {
         let piece = if pair.wheel_curve.contains(u, DOMAIN_TOL_M) {
             segment
         } else {
-            segments
+            match segments
                 .iter()
-                .position(|s| s.curve.contains(u, DOMAIN_TOL_M))?
+                .position(|s| s.curve.contains(u, DOMAIN_TOL_M))
+            {
+                Some(p) => p,
+                None => {
+                    *out = None;
+                    return;
+                }
+            }
         };
         let rail_ok = pair.rail.head().contains(sg * x[1], DOMAIN_TOL_M);
         if !(rail_ok && x[2].abs() < MAX_S_WHEEL_RAD) {
-            return None;
+            *out = None;
+            return;
         }
         let wheel = pair.wheel;
         let rail = pair.rail;
-        let cand = from_eval(
+        let cand = out.insert(from_eval(
             side,
             segments[piece].zone,
             piece,
@@ -435,8 +470,10 @@ impl WheelsetContactModel {
             self.placement.inclination_rad,
             |u, z| wheel.to_file_m(u, z),
             |u, z| rail.to_file_m(u, z),
-        );
-        cand.is_gap_minimum().then_some(cand)
+        ));
+        if !cand.is_gap_minimum() {
+            *out = None;
+        }
     }
 }
 

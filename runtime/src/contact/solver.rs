@@ -420,7 +420,8 @@ impl ContactSolver {
                     }
                     let guess = w.guess(l_now);
                     hints[slot] = w.hints;
-                    let (c, iterations) = model.follow(
+                    let mut c = None;
+                    let iterations = model.follow(
                         track,
                         pose,
                         side,
@@ -428,6 +429,7 @@ impl ContactSolver {
                         guess,
                         &mut hints[slot],
                         &self.options,
+                        &mut c,
                     );
                     self.stats.solves += 1;
                     self.stats.iterations += u64::from(iterations);
