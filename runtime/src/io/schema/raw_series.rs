@@ -25,16 +25,8 @@ use hdf5_sys::{h5a, h5d, h5p, h5s, h5t};
 
 use super::RESULTS_CHUNK_SAMPLES;
 
-/// The element type of a series.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum SeriesKind {
-    /// f64 values.
-    F64,
-    /// 0/1 flags stored as u8.
-    Flags,
-}
-
-/// A value type a series holds.
+/// A value type a series holds: f64 values, or 0/1 flags as u8 (the
+/// file's type is the native one).
 pub(super) trait SeriesValue: Copy {
     /// The HDF5 memory type of `Self`.
     fn memory_type() -> hid_t;
@@ -166,21 +158,17 @@ impl SeriesMaker {
         }
     }
 
-    /// Create the empty, extendable series `name` of `kind` in `group`,
-    /// with its `units` and `description` attributes.
-    pub(super) fn create(
+    /// Create the empty, extendable series `name` of `T` values in
+    /// `group`, with its `units` and `description` attributes.
+    pub(super) fn create<T: SeriesValue>(
         &self,
         group: &hdf5::Group,
         name: &str,
-        kind: SeriesKind,
         units: &str,
         description: &str,
     ) -> Result<hdf5::Dataset, hdf5::Error> {
         let c_name = c_string(name)?;
-        let file_type = match kind {
-            SeriesKind::F64 => f64::memory_type(),
-            SeriesKind::Flags => u8::memory_type(),
-        };
+        let file_type = T::memory_type();
         let _lock = hdf5_sys::LOCK.lock();
         // SAFETY: the group id is valid while `group` lives; the dataset id
         // is handed to an `hdf5::Dataset` (which closes it) at once.
@@ -307,10 +295,10 @@ mod tests {
         let group = file.create_group("g").expect("group");
         let maker = SeriesMaker::new().expect("maker");
         let x = maker
-            .create(&group, "x_m", SeriesKind::F64, "m", "a length, + left")
+            .create::<f64>(&group, "x_m", "m", "a length, + left")
             .expect("x");
         let flags = maker
-            .create(&group, "in_contact", SeriesKind::Flags, "-", "0/1")
+            .create::<u8>(&group, "in_contact", "-", "0/1")
             .expect("flags");
         // Two appends, the second across the first chunk's end.
         let first: Vec<f64> = (0..1000).map(|i| f64::from(i) * 0.5).collect();
@@ -319,16 +307,8 @@ mod tests {
         append(&x, first.len(), &second).expect("second");
         append(&flags, 0, &[0_u8, 1, 1]).expect("flags");
         // A name taken, or one the C API cannot hold, is an error, not a panic.
-        assert!(
-            maker
-                .create(&group, "x_m", SeriesKind::F64, "m", "again")
-                .is_err()
-        );
-        assert!(
-            maker
-                .create(&group, "bad\0name", SeriesKind::F64, "m", "")
-                .is_err()
-        );
+        assert!(maker.create::<f64>(&group, "x_m", "m", "again").is_err());
+        assert!(maker.create::<f64>(&group, "bad\0name", "m", "").is_err());
         drop((x, flags, maker));
         file.close().expect("close");
 

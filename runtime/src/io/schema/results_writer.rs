@@ -10,7 +10,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::raw_series::{self, SeriesKind, SeriesMaker, SeriesValue};
+use super::raw_series::{self, SeriesMaker, SeriesValue};
 use super::results_file::{
     NADAL_ATTRIBUTES, RESULTS_SCHEMA, RESULTS_SCHEMA_VERSION, RESULTS_TOOL, hdf5_err,
 };
@@ -48,21 +48,14 @@ pub struct ResultsWriter {
 
 /// Create the empty, extendable dataset `dataset` of `group` (through
 /// `maker`, [`super::raw_series`]).
-fn create_series(
+fn create_series<T: SeriesValue>(
     path: &Path,
     maker: &SeriesMaker,
     group: &hdf5::Group,
     dataset: &Dataset,
-    kind: SeriesKind,
 ) -> Result<hdf5::Dataset, SchemaError> {
     maker
-        .create(
-            group,
-            dataset.name,
-            kind,
-            dataset.units,
-            dataset.description,
-        )
+        .create::<T>(group, dataset.name, dataset.units, dataset.description)
         .map_err(|source| {
             let what = format!("{}/{}", group.name().trim_end_matches('/'), dataset.name);
             hdf5_err(path, format!("creating {what}"))(source)
@@ -101,11 +94,10 @@ pub(super) fn create_columns<S, V>(
     series: &mut Vec<hdf5::Dataset>,
 ) -> Result<(), SchemaError> {
     for c in columns {
-        let kind = match &c.values {
-            Values::F64(_) => SeriesKind::F64,
-            Values::Flags { .. } => SeriesKind::Flags,
-        };
-        series.push(create_series(path, maker, group, &c.dataset, kind)?);
+        series.push(match &c.values {
+            Values::F64(_) => create_series::<f64>(path, maker, group, &c.dataset)?,
+            Values::Flags { .. } => create_series::<u8>(path, maker, group, &c.dataset)?,
+        });
     }
     Ok(())
 }
@@ -160,7 +152,7 @@ impl ResultsWriter {
         attrs::write_str(path, &file, "tool", RESULTS_TOOL)?;
         attrs::write_str(path, &file, "tool_version", env!("CARGO_PKG_VERSION"))?;
         let maker = SeriesMaker::new().map_err(hdf5_err(path, "preparing the series"))?;
-        let time = create_series(path, &maker, &file, &TIME_S, SeriesKind::F64)?;
+        let time = create_series::<f64>(path, &maker, &file, &TIME_S)?;
         Ok(Self {
             path: path.to_path_buf(),
             atomic,
