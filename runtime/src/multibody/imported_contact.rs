@@ -101,10 +101,10 @@
 
 use std::sync::{Arc, OnceLock};
 
-use nalgebra::Vector3;
+use nalgebra::{Matrix3, Vector3};
 
 use super::contact_source::{ContactContext, ContactSource};
-use super::track_motion::{TrackRelative, track_rotation};
+use super::track_motion::{TrackRelative, frame_rotation};
 use crate::contact::imported::{ImportedContactTable, ImportedRow, ImportedTableError};
 use crate::contact::imported_lookup::{ImportedLookup, ImportedRows, TableInterpolation};
 use crate::contact::quasi_static::Settled;
@@ -274,6 +274,22 @@ impl ContactSource for ImportedContact {
         Ok(contacts)
     }
 
+    /// [`Self::contacts`] written into `out` (piece 0 of each wheel set,
+    /// every other piece cleared): the default's returned value and copy
+    /// of the whole snapshot showed in the car's profile.
+    fn contacts_into(
+        &mut self,
+        ctx: ContactContext<'_>,
+        pose: &WheelsetPose,
+        relative: &TrackRelative,
+        out: &mut WheelsetContacts,
+    ) -> Result<(), ContactError> {
+        let rows = wheel_rows(&self.table, relative.lateral_m)?;
+        candidates_into(ctx.track, pose, &rows, self.normal, out)?;
+        self.rows = Some(rows);
+        Ok(())
+    }
+
     fn force(
         &self,
         forces: &ContactForceSettings,
@@ -372,18 +388,40 @@ pub fn wheel_rows<T: ImportedRows + ?Sized>(
     Ok([row(Side::Left)?, row(Side::Right)?])
 }
 
-/// The contact of one wheel with its row (module docs, "Geometry").
-pub fn wheel_candidate(
-    track: &TrackTables,
+/// The track at a wheelset's section s: what both wheels' contacts read
+/// from the centreline, looked up once per wheelset.
+struct Section {
+    /// Centreline point O (m).
+    origin: Vector3<f64>,
+    /// Track frame columns t, n, b ([`super::track_motion::track_rotation`]).
+    frame: Matrix3<f64>,
+    /// Arc length of each rail at s (m), [left, right].
+    rail_l_m: [f64; 2],
+}
+
+impl Section {
+    fn at(track: &TrackTables, s_m: f64) -> Result<Self, TrackError> {
+        let c = &track.centerline;
+        let centre = c.at(s_m)?;
+        let (_, rail_l_m) = c.frame_and_rail_l(s_m)?;
+        Ok(Section {
+            origin: centre.position,
+            frame: frame_rotation(&centre.frame),
+            rail_l_m,
+        })
+    }
+}
+
+/// The contact of one wheel with its row (module docs, "Geometry"), the
+/// track read at the wheelset's `section`.
+fn wheel_candidate(
+    section: &Section,
     pose: &WheelsetPose,
     side: Side,
     row: &ImportedRow,
     normal_rule: ContactNormal,
-) -> Result<Candidate, ContactError> {
-    let s = pose.s_track_m;
-    let c = &track.centerline;
-    let origin = c.at(s)?.position;
-    let frame = track_rotation(c, s)?;
+) -> Candidate {
+    let (origin, frame) = (section.origin, &section.frame);
     let (t, n, b) = (
         frame.column(0).into_owned(),
         frame.column(1).into_owned(),
@@ -407,12 +445,12 @@ pub fn wheel_candidate(
     let tangent = (t - normal * t.dot(&normal)).normalize();
     let lateral = normal.cross(&tangent);
     let penetration_m = row.penetration_m + (rail_point - wheel_point).dot(&normal);
-    Ok(Candidate {
+    Candidate {
         side,
         zone: Zone::Tread,
         segment: 0,
         params: SurfaceParams {
-            s_rail_m: c.rail_l(side, s)?,
+            s_rail_m: section.rail_l_m[side_index(side)],
             u_rail_m: d.dot(&n),
             s_wheel_rad: 0.0,
             u_wheel_m: sg * row.wheel_lateral_m,
@@ -436,7 +474,7 @@ pub fn wheel_candidate(
         },
         wheel_profile_point_m: (row.wheel_lateral_m, -row.rolling_radius_m),
         rail_profile_point_m: (d.dot(&n), row.rail_vertical_m),
-    })
+    }
 }
 
 /// Both wheels' contacts (piece 0 of each wheel) of a wheelset at `pose`
@@ -461,25 +499,52 @@ pub fn imported_contacts_with<T: ImportedRows + ?Sized>(
 ) -> Result<(WheelsetContacts, [ImportedRow; 2]), ContactError> {
     let rows = wheel_rows(table, lateral_m)?;
     let mut out = WheelsetContacts::default();
+    candidates_into(track, pose, &rows, normal, &mut out)?;
+    Ok((out, rows))
+}
+
+/// Both wheels' contacts from their `rows` `[left, right]` written into
+/// `out`: piece 0 of each wheel, every other piece cleared.
+fn candidates_into(
+    track: &TrackTables,
+    pose: &WheelsetPose,
+    rows: &[ImportedRow; 2],
+    normal: ContactNormal,
+    out: &mut WheelsetContacts,
+) -> Result<(), ContactError> {
+    let section = Section::at(track, pose.s_track_m)?;
     for side in Side::BOTH {
         let k = side_index(side);
-        out.candidates[k][0] = Some(wheel_candidate(track, pose, side, &rows[k], normal)?);
+        let pieces = &mut out.candidates[k];
+        pieces[0] = Some(wheel_candidate(&section, pose, side, &rows[k], normal));
+        pieces[1..].fill(None);
     }
-    Ok((out, rows))
+    Ok(())
 }
 
 /// Normal force N (N) of a wheel at actual penetration `delta_m` (m):
 /// N0 (δ_act/q0)^1.5, 0 when δ_act ≤ 0 (module docs).
 pub fn normal_force_n(row: &ImportedRow, delta_m: f64) -> f64 {
+    normal_force_and_scale(row, delta_m).0
+}
+
+/// N (N, as [`normal_force_n`]) and the semi-axes' load scale
+/// (N/N0)^(1/3) = (δ_act/q0)^(1/2) (module docs, "Ellipse"), both from
+/// r = δ_act/q0 and √r: N = N0 r √r. One square root instead of a `powf`
+/// and a `cbrt` (two of the costliest calls of a car's right-hand side,
+/// eight wheels at every evaluation). (0, 0) when δ_act ≤ 0.
+fn normal_force_and_scale(row: &ImportedRow, delta_m: f64) -> (f64, f64) {
     if delta_m > 0.0 {
-        row.normal_force_n * (delta_m / row.penetration_m).powf(1.5)
+        let ratio = delta_m / row.penetration_m;
+        let root = ratio.sqrt();
+        (row.normal_force_n * ratio * root, root)
     } else {
-        0.0
+        (0.0, 0.0)
     }
 }
 
-/// A unit sphere's Hertz shape, the placeholder whose fields are
-/// overwritten in [`imported_force`].
+/// A unit sphere's Hertz shape, the placeholder shape of the Hertz record
+/// [`imported_force`] makes (its other fields are the imported contact's).
 fn placeholder_shape() -> Result<HertzShape, HertzError> {
     static SHAPE: OnceLock<Result<HertzShape, HertzError>> = OnceLock::new();
     *SHAPE.get_or_init(|| HertzShape::new(1.0, 1.0))
@@ -494,7 +559,7 @@ pub fn imported_force(
     c: &Candidate,
     motion: &WheelsetMotion,
 ) -> Result<Option<ContactForce>, ContactForceError> {
-    let n = normal_force_n(row, c.penetration_m);
+    let (n, scale) = normal_force_and_scale(row, c.penetration_m);
     if n <= 0.0 {
         return Ok(None);
     }
@@ -509,8 +574,7 @@ pub fn imported_force(
         source,
     };
     let creepages = contact_creepages(settings, c, motion)?;
-    // a, b ∝ N^(1/3) at the table's shape (Hertz).
-    let scale = (n / row.normal_force_n).cbrt();
+    // a, b ∝ N^(1/3) at the table's shape (Hertz): `scale` = (N/N0)^(1/3).
     let (a_m, b_m) = (row.a_m * scale, row.b_m * scale);
     let input = CreepInput {
         xi: creepages.xi,
@@ -548,18 +612,24 @@ pub fn imported_force(
             });
         }
     };
-    // The Hertz record: a placeholder shape evaluated at N, then the
-    // imported contact's own semi-axes, approach and stiffness (module docs).
-    let mut hertz = HertzContact::from_shape(
-        &placeholder_shape().map_err(hertz_err)?,
-        n,
-        &settings.material,
-    )
-    .map_err(hertz_err)?;
-    hertz.a_rolling_m = a_m;
-    hertz.b_lateral_m = b_m;
-    hertz.approach_m = c.penetration_m;
-    hertz.stiffness_n_m15 = row.normal_force_n / row.penetration_m.powf(1.5);
+    // The Hertz record: a placeholder shape with the imported contact's own
+    // N, semi-axes, approach and stiffness K = N0/q0^1.5 (module docs),
+    // after the checks `HertzContact::from_shape` makes of its inputs.
+    settings.material.validate().map_err(hertz_err)?;
+    if !n.is_finite() {
+        return Err(hertz_err(HertzError::InvalidNormalForce {
+            normal_force_n: n,
+        }));
+    }
+    let q0 = row.penetration_m;
+    let hertz = HertzContact {
+        shape: placeholder_shape().map_err(hertz_err)?,
+        normal_force_n: n,
+        a_rolling_m: a_m,
+        b_lateral_m: b_m,
+        approach_m: c.penetration_m,
+        stiffness_n_m15: row.normal_force_n / (q0 * q0.sqrt()),
+    };
     Ok(Some(ContactForce {
         normal: NormalForce {
             force_n: n,
