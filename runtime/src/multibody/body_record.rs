@@ -9,7 +9,7 @@ use nalgebra::{Matrix3, Rotation3, Vector3};
 
 use super::DynamicsError;
 use super::system::VehicleSystem;
-use super::track_motion::{project_s, track_rotation};
+use super::track_motion::{frame_rotation, project_s};
 use crate::geometry::track::TrackError;
 use crate::results::bodies::recognise_car_body;
 use crate::results::{BodyKind, BodySample, BodySeries, CarBody};
@@ -97,8 +97,10 @@ pub(super) fn body_samples(
             }
         };
         s_guess[k] = s;
-        let origin = c.at(s).map_err(track_err(name))?.position;
-        let t = track_rotation(c, s).map_err(track_err(name))?;
+        // One lookup for the origin and the axes (`track_rotation`'s value).
+        let centre = c.at(s).map_err(track_err(name))?;
+        let origin = centre.position;
+        let t = frame_rotation(&centre.frame);
         let (tt, nn, bb) = (t.column(0), t.column(1), t.column(2));
         let d = st.position_m - origin;
         let rel = t.transpose() * st.rotation();
