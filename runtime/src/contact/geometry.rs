@@ -212,12 +212,18 @@ impl<'a> Pair<'a> {
     pub fn eval_into(&self, x: &Vector4<f64>, out: &mut PairEval) -> Result<(), TrackError> {
         let (s_r, u_r, s_w, u_w) = (x[0], x[1], x[2], x[3]);
         let sg = self.sigma;
+        // The calls first: `sin_cos` (a library call) and the profiles'
+        // spline lookups (a call when a hint misses), so that few values
+        // are live across them (none of the rail's and the vectors below
+        // is spilled to the stack around them); each value is the same.
+        let (ss, cs) = s_w.sin_cos();
+        let rp = self.rail.head().at_near(sg * u_r, &self.rail_piece);
+        let wp = self.wheel_curve.at_near(sg * u_w, &self.wheel_piece);
         // Rail.
         let (rail, rd) = self
             .rail_table
             .at_with_derivative_near(s_r, &self.rail_row)?;
         let (p, n, b) = (rail.position, rail.frame.n, rail.frame.b);
-        let rp = self.rail.head().at_near(sg * u_r, &self.rail_piece);
         let (f_r, f_r1, f_r2) = (rp.z_m, sg * rp.dz, rp.d2z_1_m);
         let r_r = p + n * u_r + b * f_r;
         let r_r_s = rd.position + rd.n * u_r + rd.b * f_r;
@@ -226,10 +232,8 @@ impl<'a> Pair<'a> {
         let big_n_s = rd.b - rd.n * f_r1;
         let big_n_u = -n * f_r2;
         // Wheel.
-        let wp = self.wheel_curve.at_near(sg * u_w, &self.wheel_piece);
         let r0 = self.wheel.nominal_radius_m();
         let (f_w, f_w1, f_w2) = (wp.z_m - r0, sg * wp.dz, wp.d2z_1_m);
-        let (ss, cs) = s_w.sin_cos();
         // The wheel's vectors A q, each as nalgebra's `A * q` computes it
         // (the same bits), without the products by q's zero components.
         let a = &self.axes;
