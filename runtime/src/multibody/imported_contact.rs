@@ -890,6 +890,16 @@ mod tests {
         let contacts = source.contacts(ctx!(), &settled.pose, &relative).unwrap();
         let (direct, rows) = imported_contacts(&track, &settled.pose, y, &t).unwrap();
         same(&contacts, &direct);
+        // Written in place over a snapshot that still holds other pieces
+        // (an online solve's): the same contacts, the stale pieces cleared.
+        let mut snapshot = WheelsetContacts::default();
+        for side in &mut snapshot.candidates {
+            side.fill(Some(direct.candidates[0][0].unwrap()));
+        }
+        source
+            .contacts_into(ctx!(), &settled.pose, &relative, &mut snapshot)
+            .unwrap();
+        same(&snapshot, &direct);
         for (k, row) in rows.iter().enumerate() {
             let c = contacts.candidates[k][0].unwrap();
             let f = source.force(&settings, &c, &memory, &motion).unwrap();
