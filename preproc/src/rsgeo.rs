@@ -207,6 +207,10 @@ mod tests {
         assert_eq!(t.y_m, vec![-1e-5, 0.0]);
         assert_eq!(t.rows[1].wheel_lateral_m, 0.7563);
         assert_eq!(t.format, "rsgeo");
+        // Tabs and runs of blanks separate values as single spaces do.
+        let tabbed = format!("{}{}\n{ROW1}\n", header(), ROW0.replace(' ', "\t  "));
+        let u = parse_rsgeo(&tabbed, Path::new("x.dat")).unwrap();
+        assert_eq!((u.y_m, u.rows), (t.y_m, t.rows));
     }
 
     #[test]
@@ -221,6 +225,12 @@ mod tests {
                 format!("{}{ROW0}\n{}\n", header(), ROW1.replace(" 0.0", "")),
                 "line 4",
                 "12 values",
+            ),
+            (
+                // More values than columns: counted past the thirteenth.
+                format!("{}{ROW0}\n{ROW1} 1.0 2.0\n", header()),
+                "line 4",
+                "15 values",
             ),
             (
                 format!("{}{ROW1}\n{ROW0}\n", header()),
