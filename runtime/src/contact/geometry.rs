@@ -102,12 +102,6 @@ impl PieceHints {
     };
 }
 
-impl Default for PieceHints {
-    fn default() -> Self {
-        Self::NONE
-    }
-}
-
 /// One wheel–rail pair and zone, ready to be evaluated.
 pub(crate) struct Pair<'a> {
     pub rail_table: &'a RailTable,

@@ -239,7 +239,9 @@ impl WheelsetContactModel {
                 Ok(c) => {
                     any_converged = true;
                     total_iterations += c.iterations;
-                    if let Some(cand) = self.accept(&pair, side, segment, &c, &eval, true)
+                    let mut accepted = None;
+                    self.accept_into(&pair, side, segment, &c, &eval, true, &mut accepted);
+                    if let Some(cand) = accepted
                         && !out.iter().any(|o| same_contact(o, &cand))
                     {
                         out.push(cand);
@@ -403,23 +405,8 @@ impl WheelsetContactModel {
     /// beyond [`MAX_S_WHEEL_RAD`], or a maximum of the gap (the stationary
     /// point between two patches, [`Candidate::is_gap_minimum`]). A solution
     /// outside the piece `segment` that was solved but on another piece of
-    /// the wheel is that piece's. `eval` is the evaluation at `c.x`.
-    #[inline]
-    fn accept(
-        &self,
-        pair: &Pair<'_>,
-        side: Side,
-        segment: usize,
-        c: &newton::Converged,
-        eval: &PairEval,
-        cold: bool,
-    ) -> Option<Candidate> {
-        let mut out = None;
-        self.accept_into(pair, side, segment, c, eval, cold, &mut out);
-        out
-    }
-
-    /// [`Self::accept`] written into `out` (the candidate built in place).
+    /// the wheel is that piece's. `eval` is the evaluation at `c.x`;
+    /// the candidate is written into `out` (built in place).
     #[inline]
     #[allow(clippy::too_many_arguments)]
     fn accept_into(
