@@ -566,6 +566,10 @@ fn the_planner_chooses_rosenbrock_for_the_bogie_and_the_run_uses_it() {
     };
     assert_eq!(attr(&a, "integrator"), "rosenbrock");
     assert!(attr(&a, "plan").contains("rosenbrock atol 5.0e-6 [planner]"));
+    // The bogie's W factorised by blocks every time (reference 8.5, "Block
+    // elimination"): the fallback count is written, and zero.
+    assert_eq!(attr(&a, "dense_lu_fallbacks"), "0");
+    assert_eq!(s["fallbacks"]["dense_lu_factorisations"], 0, "{s:#}");
     // The reference: RK4 at 0.1 ms; the planned run within the issue's
     // 10 µm of it (docs/guide/speed-accuracy-tradeoff.md, "The integrator").
     let full = dir.join("full.h5");

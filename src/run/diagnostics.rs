@@ -559,6 +559,10 @@ pub struct FallbackCounts {
     /// Recorded samples with at least one zone from each fallback.
     pub samples_with_minimisation: u64,
     pub samples_with_hertz_floor: u64,
+    /// Factorisations of the stiff integrator's W made by the dense LU
+    /// because a block pivot failed the threshold test
+    /// (`runtime::integrators::body_blocks`).
+    pub dense_lu_factorisations: u64,
 }
 
 impl FallbackCounts {
@@ -567,6 +571,7 @@ impl FallbackCounts {
     pub fn count(
         minimisation_solves: u64,
         hertz_floor_evaluations: u64,
+        dense_lu_factorisations: u64,
         results: &runtime::results::RunResults,
     ) -> Self {
         use runtime::results::{FALLBACK_HERTZ_FLOOR, FALLBACK_MINIMISATION};
@@ -588,12 +593,13 @@ impl FallbackCounts {
             hertz_floor_evaluations,
             samples_with_minimisation: samples(FALLBACK_MINIMISATION),
             samples_with_hertz_floor: samples(FALLBACK_HERTZ_FLOOR),
+            dense_lu_factorisations,
         }
     }
 
     /// Any fallback at all.
     pub fn any(&self) -> bool {
-        self.minimisation_solves + self.hertz_floor_evaluations > 0
+        self.minimisation_solves + self.hertz_floor_evaluations + self.dense_lu_factorisations > 0
     }
 
     /// One line for the text summary (empty without fallbacks).
@@ -602,11 +608,12 @@ impl FallbackCounts {
             return String::new();
         }
         format!(
-            "  fallbacks: {} contact solves from the minimisation fallback (nearly conformal; {} samples), {} contact evaluations with the non-Hertzian curvature floor ({} samples)\n",
+            "  fallbacks: {} contact solves from the minimisation fallback (nearly conformal; {} samples), {} contact evaluations with the non-Hertzian curvature floor ({} samples), {} factorisations of W by the dense LU (a block pivot below the threshold)\n",
             self.minimisation_solves,
             self.samples_with_minimisation,
             self.hertz_floor_evaluations,
-            self.samples_with_hertz_floor
+            self.samples_with_hertz_floor,
+            self.dense_lu_factorisations
         )
     }
 }
@@ -640,6 +647,10 @@ pub fn run_attributes(
         (
             "non_hertzian_fallbacks".to_string(),
             fallbacks.hertz_floor_evaluations.into(),
+        ),
+        (
+            "dense_lu_fallbacks".to_string(),
+            fallbacks.dense_lu_factorisations.into(),
         ),
     ];
     if let Some(s) = stats {

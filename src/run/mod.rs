@@ -397,6 +397,7 @@ fn run_session(
     let fallbacks = crate::run::diagnostics::FallbackCounts::count(
         stats_solvers.minimisations,
         hertz_floor_evaluations,
+        stats.as_ref().map_or(0, |s| s.dense_lu_fallbacks),
         &results,
     );
     results

@@ -513,6 +513,7 @@ pub(super) fn integrate_dopri5<S: OdeSystem>(
         rejected,
         rhs_evaluations: evaluations,
         jacobian_evaluations: 0,
+        dense_lu_fallbacks: 0,
         outputs: cursor.emitted,
         t_end_reached: t,
         stopped,

@@ -430,6 +430,14 @@ impl BlockJacobian {
         true
     }
 
+    /// Factorisations that fell back from the block elimination to the
+    /// dense LU ([`super::body_blocks`]).
+    pub(super) fn dense_fallbacks(&self) -> u64 {
+        self.reduction
+            .as_ref()
+            .map_or(0, KinematicReduction::dense_fallbacks)
+    }
+
     /// Solves W x = v in place (after [`Self::factor`] with `inv_h_gamma`).
     pub(super) fn solve(&mut self, inv_h_gamma: f64, v: &mut [f64]) {
         if let Some(red) = &mut self.reduction {

@@ -23,6 +23,7 @@
 
 use std::ops::Range;
 
+use super::body_blocks::BodyBlocks;
 use super::jacobian::{dot, lu_in_place, lu_solve};
 
 /// One body's kinematic rows: `positions` (eliminated) whose derivative
@@ -54,6 +55,13 @@ pub(super) struct KinematicReduction {
     pivots: Vec<usize>,
     rhs: Vec<f64>,
     r_p: Vec<f64>,
+    /// The factorisation by 6 × 6 blocks when every block is a rigid body
+    /// and the state holds nothing else ([`super::body_blocks`]), whether
+    /// the current factors are those, and how many factorisations fell
+    /// back to the dense LU above.
+    bodies: Option<BodyBlocks>,
+    by_blocks: bool,
+    dense_fallbacks: u64,
 }
 
 /// Most velocity components one kinematic block may have (6 for a rigid
@@ -127,12 +135,29 @@ impl KinematicReduction {
             pivots: vec![0; m],
             rhs: vec![0.0; m],
             r_p: vec![0.0; np],
+            bodies: BodyBlocks::new(blocks, n),
+            by_blocks: false,
+            dense_fallbacks: 0,
         }
+    }
+
+    /// Factorisations by blocks that fell back to the dense LU (a pivot
+    /// failed the threshold test, or a diagonal block was singular).
+    pub(super) fn dense_fallbacks(&self) -> u64 {
+        self.dense_fallbacks
     }
 
     /// LU factors of the reduced matrix for 1/(hγ) = `inv_h_gamma`. False
     /// when it is singular.
     pub(super) fn factor(&mut self, jac: &[f64], n: usize, inv_h_gamma: f64) -> bool {
+        if let Some(bodies) = &mut self.bodies {
+            if bodies.factor(jac, n, inv_h_gamma) {
+                self.by_blocks = true;
+                return true;
+            }
+            self.dense_fallbacks += 1;
+        }
+        self.by_blocks = false;
         let (m, np) = (self.kept.len(), self.eliminated.len());
         let h_gamma = 1.0 / inv_h_gamma;
         for (q, &p) in self.eliminated.iter().enumerate() {
@@ -170,6 +195,12 @@ impl KinematicReduction {
     /// Solves W x = v in place with the factors of [`Self::factor`] (made
     /// for the same `inv_h_gamma` and J).
     pub(super) fn solve(&mut self, inv_h_gamma: f64, v: &mut [f64]) {
+        if self.by_blocks {
+            if let Some(bodies) = &mut self.bodies {
+                bodies.solve(inv_h_gamma, v);
+                return;
+            }
+        }
         let (m, np) = (self.kept.len(), self.eliminated.len());
         let h_gamma = 1.0 / inv_h_gamma;
         for (r, &p) in self.r_p.iter_mut().zip(&self.eliminated) {

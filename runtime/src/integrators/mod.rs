@@ -65,6 +65,7 @@
 //! the system (from `rhs`, `accept` or the observer) are passed through as
 //! [`IntegratorError::System`].
 
+pub mod body_blocks;
 pub mod dopri5;
 pub mod jacobian;
 pub mod kinematic;
@@ -183,6 +184,10 @@ pub struct IntegrationStats {
     pub rhs_evaluations: u64,
     /// Finite-difference Jacobians evaluated (Rosenbrock; 0 otherwise).
     pub jacobian_evaluations: u64,
+    /// Factorisations of W that fell back from the block elimination to
+    /// the dense LU (a pivot below the threshold; [`body_blocks`];
+    /// Rosenbrock on rigid bodies only, 0 otherwise).
+    pub dense_lu_fallbacks: u64,
     /// Observer calls (output times, the final one included).
     pub outputs: u64,
     /// The time of the last accepted state (s): t_end, or the stop time.

@@ -246,6 +246,7 @@ pub(super) fn integrate_rk4<S: OdeSystem>(
         rejected: 0,
         rhs_evaluations: evaluations,
         jacobian_evaluations: 0,
+        dense_lu_fallbacks: 0,
         outputs: cursor.emitted,
         t_end_reached: t,
         stopped,

@@ -548,6 +548,7 @@ pub(super) fn integrate_rosenbrock<S_: OdeSystem>(
         rejected,
         rhs_evaluations: evaluations,
         jacobian_evaluations: jacobians,
+        dense_lu_fallbacks: jac.dense_fallbacks(),
         outputs: cursor.emitted,
         t_end_reached: t,
         stopped,
