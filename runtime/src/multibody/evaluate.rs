@@ -247,18 +247,19 @@ impl VehicleSystem<'_> {
             // Written in place and read by reference (an anchor and a
             // force are a hundred bytes or more each: copies showed in the
             // profile).
-            self.element_forces[idx] = match self.column {
+            match self.column {
                 Some(c) if !c.touches(ia, ib, start..start + len) => {
-                    self.accepted_element_forces[idx]
+                    self.element_forces[idx] = self.accepted_element_forces[idx];
                 }
                 _ => {
                     let a = ia.map_or(&ground, |k| &self.anchors[k]);
                     let b = ib.map_or(&ground, |k| &self.anchors[k]);
                     // Only body anchors have track axes; references' are the track's.
                     let axes = ia.and_then(|k| self.element_axes.get(k));
-                    e.evaluate_along(a, b, &self.internal[start..start + len], axes)
+                    let internal = &self.internal[start..start + len];
+                    e.evaluate_along_into(a, b, internal, axes, &mut self.element_forces[idx]);
                 }
-            };
+            }
             let f = &self.element_forces[idx];
             self.internal_rates[start..start + len].copy_from_slice(&f.internal_rate_m_s[..len]);
             if let Some(k) = ia.filter(|&k| k < n_bodies) {

@@ -339,6 +339,22 @@ impl SpringDamper {
         internal_m: &[f64],
         axes: Option<&Anchor>,
     ) -> ElementForce {
+        let mut out = ElementForce::default();
+        self.evaluate_along_into(a, b, internal_m, axes, &mut out);
+        out
+    }
+
+    /// [`Self::evaluate_along`] written into `out` (the vehicle's force
+    /// slots: a force is 144 bytes, and building it elsewhere to copy it in
+    /// showed in the profile).
+    pub fn evaluate_along_into(
+        &self,
+        a: &Anchor,
+        b: &Anchor,
+        internal_m: &[f64],
+        axes: Option<&Anchor>,
+        out: &mut ElementForce,
+    ) {
         let (rotation, omega) = axes.map_or((a.rotation, a.angular_velocity_rad_s), |f| {
             (f.rotation, f.angular_velocity_rad_s)
         });
@@ -378,14 +394,14 @@ impl SpringDamper {
                 }
             }
         }
-        ElementForce {
+        *out = ElementForce {
             force_on_b_n: rotation * f_local,
             point_a_m,
             point_b_m,
             deflection_m,
             rate_m_s,
             internal_rate_m_s,
-        }
+        };
     }
 
     /// Calls `f(axis, law, stroke)` for every series axis with its stroke
