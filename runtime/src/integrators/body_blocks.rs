@@ -16,8 +16,9 @@
 //! order (wheelsets, then frames, then the car body) creates no new nonzero
 //! block, and it skips every zero one: the Cooperrider car's 7 × 7 blocks
 //! have 19 nonzero. The blocks are fixed-size matrices, so that every
-//! product is unrolled code; the solve and the factorisation cost about a
-//! sixth of the dense LU's on the car (docs/reference §8.5).
+//! product is unrolled code. On the car the solves cost a fifth of the
+//! dense LU's and the factorisations, mostly reading the Jacobian, two
+//! thirds (docs/reference/08-multibody.md §8.5).
 //!
 //! The pattern is read from the Jacobian at each factorisation (a block is
 //! zero when all its entries are exactly 0.0) and filled: (K, L) becomes
@@ -126,27 +127,36 @@ impl BodyBlocks {
     fn assemble(&mut self, jac: &[f64], n: usize, inv_h_gamma: f64) {
         let nb = self.bodies();
         let h_gamma = 1.0 / inv_h_gamma;
-        let at = |r: usize, c: usize| jac[r * n + c];
         for q in 0..nb {
             let (p, v) = (self.positions[q], self.velocities[q]);
-            self.b[q] = M76::from_fn(|i, j| at(p + i, v + j));
+            let b = &mut self.b[q];
+            for i in 0..BODY_POSITIONS {
+                let row = &jac[(p + i) * n + v..(p + i) * n + v + BODY_VELOCITIES];
+                for (j, &x) in row.iter().enumerate() {
+                    b[(i, j)] = x;
+                }
+            }
         }
         for k in 0..nb {
             let vk = self.velocities[k];
             self.touches[k].clear();
             for l in 0..nb {
                 let (pl, vl) = (self.positions[l], self.velocities[l]);
-                let j_vv = M66::from_fn(|i, j| at(vk + i, vl + j));
-                let j_vp = M67::from_fn(|i, j| at(vk + i, pl + j));
-                let touches = j_vp.as_slice().iter().any(|&x| x != 0.0);
-                if touches {
-                    self.touches[k].push(l);
+                let (mut j_vp, mut w) = (M67::zeros(), M66::zeros());
+                let (mut any_vp, mut any_vv) = (false, false);
+                for i in 0..BODY_VELOCITIES {
+                    let row = &jac[(vk + i) * n..(vk + i + 1) * n];
+                    for (j, &x) in row[pl..pl + BODY_POSITIONS].iter().enumerate() {
+                        j_vp[(i, j)] = x;
+                        any_vp |= x != 0.0;
+                    }
+                    for (j, &x) in row[vl..vl + BODY_VELOCITIES].iter().enumerate() {
+                        w[(i, j)] = -x;
+                        any_vv |= x != 0.0;
+                    }
                 }
-                let nonzero = k == l || touches || j_vv.as_slice().iter().any(|&x| x != 0.0);
-                self.scratch[k * nb + l] = nonzero;
-                self.j_vp[k * nb + l] = j_vp;
-                let mut w = -j_vv;
-                if touches {
+                if any_vp {
+                    self.touches[k].push(l);
                     w -= (j_vp * self.b[l]) * h_gamma;
                 }
                 if k == l {
@@ -154,6 +164,8 @@ impl BodyBlocks {
                         w[(d, d)] += inv_h_gamma;
                     }
                 }
+                self.scratch[k * nb + l] = k == l || any_vp || any_vv;
+                self.j_vp[k * nb + l] = j_vp;
                 self.w[k * nb + l] = w;
             }
         }
