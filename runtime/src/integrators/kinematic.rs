@@ -20,6 +20,11 @@
 //! (substitute the first line into the R rows; V ⊂ R). The LU factors are
 //! those of an |R| × |R| matrix: for the car, 42 instead of 91 rows, a
 //! tenth of the factorisation's work; each solve costs about half.
+//!
+//! When the state is rigid bodies only, that matrix is factorised by 6 × 6
+//! blocks, one per body pair, skipping the zero ones
+//! ([`super::body_blocks`]); otherwise, and when a block pivot fails its
+//! threshold test, by the dense LU below.
 
 use std::ops::Range;
 
