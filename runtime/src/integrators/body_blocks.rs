@@ -442,6 +442,18 @@ mod tests {
         (residual(&jac, n, INV_HG, &x, &r), red.dense_fallbacks(), x)
     }
 
+    /// [`solve`] without a fallback and to the round-off, and the block
+    /// factorisation of the same system.
+    fn solved_by_blocks(pattern: &[&str], diagonal: f64, coupling: f64) -> BodyBlocks {
+        let (res, fallbacks, _) = solve(pattern, diagonal, coupling);
+        assert_eq!(fallbacks, 0);
+        assert!(res < 1e-15, "backward error {res:e}");
+        let (jac, blocks, n) = system(pattern, diagonal, coupling);
+        let mut bb = BodyBlocks::new(&blocks, n).expect("rigid bodies");
+        assert!(bb.factor(&jac, n, INV_HG));
+        bb
+    }
+
     /// The Cooperrider car's pattern: four wheelsets, two frames, the car
     /// body; no fill, 19 nonzero blocks, solved by blocks.
     #[test]
@@ -449,12 +461,7 @@ mod tests {
         let car = [
             "X...X..", ".X..X..", "..X..X.", "...X.X.", "XX..X.X", "..XX.XX", "....XXX",
         ];
-        let (res, fallbacks, _) = solve(&car, 0.0, 1.0);
-        assert_eq!(fallbacks, 0);
-        assert!(res < 1e-15, "backward error {res:e}");
-        let (jac, blocks, n) = system(&car, 0.0, 1.0);
-        let mut bb = BodyBlocks::new(&blocks, n).expect("rigid bodies");
-        assert!(bb.factor(&jac, n, INV_HG));
+        let bb = solved_by_blocks(&car, 0.0, 1.0);
         assert_eq!(bb.nonzero.iter().filter(|&&z| z).count(), 19);
     }
 
@@ -463,12 +470,7 @@ mod tests {
     #[test]
     fn fill_is_found() {
         let arrow = ["XXXX", "XX..", "X.X.", "X..X"];
-        let (res, fallbacks, _) = solve(&arrow, 0.0, 1.0);
-        assert_eq!(fallbacks, 0);
-        assert!(res < 1e-15, "backward error {res:e}");
-        let (jac, blocks, n) = system(&arrow, 0.0, 1.0);
-        let mut bb = BodyBlocks::new(&blocks, n).expect("rigid bodies");
-        assert!(bb.factor(&jac, n, INV_HG));
+        let bb = solved_by_blocks(&arrow, 0.0, 1.0);
         assert!(bb.nonzero.iter().all(|&z| z), "every block filled");
     }
 
@@ -476,12 +478,7 @@ mod tests {
     /// swapped inside the diagonal blocks.
     #[test]
     fn rows_are_pivoted_inside_a_block() {
-        let (res, fallbacks, _) = solve(&["XX", "XX"], INV_HG, 0.01);
-        assert_eq!(fallbacks, 0);
-        assert!(res < 1e-15, "backward error {res:e}");
-        let (jac, blocks, n) = system(&["XX", "XX"], INV_HG, 0.01);
-        let mut bb = BodyBlocks::new(&blocks, n).expect("rigid bodies");
-        assert!(bb.factor(&jac, n, INV_HG));
+        let bb = solved_by_blocks(&["XX", "XX"], INV_HG, 0.01);
         let swapped = bb
             .pivots
             .iter()
