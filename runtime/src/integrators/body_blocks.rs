@@ -17,8 +17,8 @@
 //! block, and it skips every zero one: the Cooperrider car's 7 × 7 blocks
 //! have 19 nonzero. The blocks are fixed-size matrices, so that every
 //! product is unrolled code. On the car the solves cost a fifth of the
-//! dense LU's and the factorisations, mostly reading the Jacobian, two
-//! thirds (docs/reference/08-multibody.md §8.5).
+//! dense LU's and the factorisations, more than half of it reading the
+//! Jacobian, two fifths (docs/reference/08-multibody.md §8.5).
 //!
 //! The pattern is read from the Jacobian at each factorisation (a block is
 //! zero when all its entries are exactly 0.0) and filled: (K, L) becomes
