@@ -83,14 +83,22 @@ pub(super) struct BodyBlocks {
 
 impl BodyBlocks {
     /// For `blocks` whose every member is a rigid body (7 positions, 6
-    /// velocities) and which together hold every state component; `None`
-    /// otherwise (the caller keeps the dense LU).
+    /// velocities) and which together hold every state component once;
+    /// `None` otherwise (the caller keeps the dense LU).
     pub(super) fn new(blocks: &[KinematicBlock], n: usize) -> Option<Self> {
         let rigid = blocks
             .iter()
             .all(|b| b.positions.len() == BODY_POSITIONS && b.velocities.len() == BODY_VELOCITIES);
         if !rigid || blocks.len() * (BODY_POSITIONS + BODY_VELOCITIES) != n {
             return None;
+        }
+        let mut held = vec![false; n];
+        for b in blocks {
+            for i in b.positions.clone().chain(b.velocities.clone()) {
+                if i >= n || std::mem::replace(&mut held[i], true) {
+                    return None;
+                }
+            }
         }
         let nb = blocks.len();
         Some(Self {
@@ -533,6 +541,10 @@ mod tests {
         assert!(
             BodyBlocks::new(&[b(0..2, 2..4)], 4).is_none(),
             "not a rigid body"
+        );
+        assert!(
+            BodyBlocks::new(&[b(0..7, 14..20), b(7..14, 14..20)], 26).is_none(),
+            "two bodies on the same velocities"
         );
     }
 }
