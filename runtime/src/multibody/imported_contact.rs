@@ -263,20 +263,15 @@ impl ContactSource for ImportedContact {
         pose: &WheelsetPose,
         relative: &TrackRelative,
     ) -> Result<WheelsetContacts, ContactError> {
-        let (contacts, rows) = imported_contacts_with(
-            ctx.track,
-            pose,
-            relative.lateral_m,
-            &self.table,
-            self.normal,
-        )?;
-        self.rows = Some(rows);
-        Ok(contacts)
+        let mut out = WheelsetContacts::default();
+        self.contacts_into(ctx, pose, relative, &mut out)?;
+        Ok(out)
     }
 
     /// [`Self::contacts`] written into `out` (piece 0 of each wheel set,
-    /// every other piece cleared): the default's returned value and copy
-    /// of the whole snapshot showed in the car's profile.
+    /// every other piece cleared; the way `contacts` makes its value too):
+    /// the trait default's returned value and copy of the whole snapshot
+    /// showed in the car's profile.
     fn contacts_into(
         &mut self,
         ctx: ContactContext<'_>,
