@@ -659,3 +659,31 @@ fn results_written_in_chunks_read_back_as_one_record() {
     assert_eq!(ds.chunk(), Some(vec![RESULTS_CHUNK_SAMPLES]));
     assert!(ds.is_resizable());
 }
+
+/// A run that ends before its first sample (it failed at the start) still
+/// leaves a complete file: `finish` makes every series, empty, and the
+/// file reads back as the record's wheelsets and bodies with no samples.
+#[test]
+fn results_writer_finished_before_any_sample_has_every_series() {
+    use runtime::io::schema::ResultsWriter;
+    let _guard = shared();
+    let dir = scratch("results_no_sample");
+    let path = dir.join("run.h5");
+    let mut record = synthetic(3);
+    let _ = record.take_samples();
+    assert!(record.is_empty());
+    let writer = ResultsWriter::create(&path).unwrap();
+    writer.finish(&record).unwrap();
+    let back = read_results(&path).unwrap();
+    assert_same(&record, &back);
+    assert_eq!(back.wheelsets.len(), record.wheelsets.len());
+    assert_eq!(back.bodies.len(), record.bodies.len());
+    let file = hdf5::File::open(&path).unwrap();
+    for name in [
+        "time_s",
+        "wheelset_1/right/flange/normal_n",
+        "wheelset_0/left/tread/in_contact",
+    ] {
+        assert_eq!(file.dataset(name).unwrap().shape(), vec![0], "{name}");
+    }
+}

@@ -11,8 +11,9 @@
 use runtime::multibody::DynamicsError;
 use runtime::results::{DecimatedView, ResultsSink, RunResults};
 
-/// Samples recorded between two appends to the sink (the results file's
-/// chunk length).
+/// Samples recorded between two appends to the sink: four of the results
+/// file's chunks, so that each chunk is written once, whole (the file
+/// keeps no chunk cache, `runtime::io::schema::ResultsWriter`).
 pub const FLUSH_SAMPLES: usize = 4 * runtime::io::schema::RESULTS_CHUNK_SAMPLES;
 
 /// Most samples the view of a streamed run keeps in memory: 200 000

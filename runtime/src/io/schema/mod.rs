@@ -47,6 +47,7 @@ mod imported;
 mod raw_series;
 mod results_bodies;
 mod results_file;
+mod results_series;
 mod results_writer;
 mod study_table;
 mod track;

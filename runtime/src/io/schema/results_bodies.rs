@@ -22,21 +22,20 @@
 
 use std::path::Path;
 
-use super::raw_series::SeriesMaker;
 use super::results_file::{has, hdf5_err, open_group, read_columns};
-use super::results_writer::{append_columns, create_columns, create_group};
+use super::results_series::{SeriesCursor, SeriesSlot, add_columns};
+use super::results_writer::create_group;
 use super::{SchemaError, attrs};
 use crate::results::paths::{BODIES_GROUP, body_group_names};
 use crate::results::{BODY_COLUMNS, BodyKind, BodySeries, CarBody, RunResults};
 
-/// Make `bodies/` and one empty, extendable subgroup per body of `record`,
-/// their datasets pushed onto `series` (for [`append`], in this order).
+/// Make `bodies/` and one subgroup per body of `record`, their series
+/// listed on `series` (for [`append`], in this order).
 pub(super) fn create(
     path: &Path,
-    maker: &SeriesMaker,
     file: &hdf5::File,
     record: &RunResults,
-    series: &mut Vec<hdf5::Dataset>,
+    series: &mut Vec<SeriesSlot>,
 ) -> Result<(), SchemaError> {
     let g = create_group(path, file, BODIES_GROUP)?;
     if let Some(c) = &record.car_body {
@@ -52,21 +51,20 @@ pub(super) fn create(
         attrs::write_f64(path, &bg, "mass_kg", b.mass_kg)?;
         attrs::write_f64(path, &bg, "assembly_x_m", b.assembly_x_m)?;
         attrs::write_f64(path, &bg, "assembly_height_m", b.assembly_height_m)?;
-        create_columns(path, maker, &bg, &BODY_COLUMNS, series)?;
+        add_columns(&bg, &BODY_COLUMNS, series);
     }
     Ok(())
 }
 
 /// Append the samples of `bodies` to the next datasets of `series` (those
-/// [`create`] made, in its order) from sample `from` on.
+/// [`create`] listed, in its order) from sample `from` on.
 pub(super) fn append(
-    path: &Path,
-    series: &mut std::slice::Iter<'_, hdf5::Dataset>,
+    series: &mut SeriesCursor<'_>,
     bodies: &[BodySeries],
     from: usize,
 ) -> Result<(), SchemaError> {
     for b in bodies {
-        append_columns(path, series, &BODY_COLUMNS, b, from)?;
+        series.append_columns(&BODY_COLUMNS, b, from)?;
     }
     Ok(())
 }

@@ -128,7 +128,7 @@ use std::path::Path;
 use hdf5::types::VarLenUnicode;
 use hdf5::{IndexType, IterationOrder};
 
-use super::columns::to_vlu;
+use super::raw_series::SeriesMaker;
 use super::results_writer::ResultsWriter;
 use super::{SchemaError, attrs};
 use crate::contact::nadal::NadalLimit;
@@ -165,23 +165,22 @@ pub(super) fn hdf5_err(
     }
 }
 
-/// Write `/scene` (the dataset handle is closed on return, so the file can
-/// be closed completely).
-pub(super) fn write_scene(path: &Path, file: &hdf5::File, text: &str) -> Result<(), SchemaError> {
-    let scene = file
-        .new_dataset::<VarLenUnicode>()
-        .shape(())
-        .create("scene")
-        .map_err(hdf5_err(path, "creating /scene"))?;
-    scene
-        .write_scalar(&to_vlu(text))
-        .map_err(hdf5_err(path, "writing /scene"))?;
-    attrs::write_str(
-        path,
-        &scene,
-        "description",
-        "the scene (TOML) as run, after command-line overrides",
-    )
+/// Write `/scene` (through `maker`; the dataset is closed on return, so
+/// the file can be closed completely).
+pub(super) fn write_scene(
+    path: &Path,
+    maker: &SeriesMaker,
+    file: &hdf5::File,
+    text: &str,
+) -> Result<(), SchemaError> {
+    maker
+        .write_text_dataset(
+            file,
+            "scene",
+            text,
+            "the scene (TOML) as run, after command-line overrides",
+        )
+        .map_err(hdf5_err(path, "writing /scene"))
 }
 
 /// Write `results` to `path` atomically (see the module docs for the

@@ -1,24 +1,27 @@
 //! The results file written while the run goes on (layout in
 //! `results_file`): [`ResultsWriter::create`] makes the file (under its
-//! temporary name, [`AtomicFile`]) with every dataset empty, chunked and
-//! extendable; [`ResultsWriter::append`] adds the samples of each chunk
-//! the run hands over; [`ResultsWriter::finish`] writes the run's
-//! attributes and scene and renames the file into place. So the memory a
+//! temporary name, [`AtomicFile`]); [`ResultsWriter::append`] adds the
+//! samples of each chunk the run hands over, to datasets chunked and
+//! extendable, each made with its first samples
+//! ([`super::results_series`]); [`ResultsWriter::finish`] makes any
+//! dataset not made yet (empty), writes the run's attributes and scene,
+//! closes the file and renames it into place. So the memory a
 //! run needs does not grow with its length, and nothing appears at the
 //! destination unless the whole file was written (a run that fails or is
 //! interrupted is still finished, with its `status` saying so).
 
 use std::path::{Path, PathBuf};
 
-use super::raw_series::{self, SeriesMaker, SeriesValue};
+use super::raw_series::SeriesMaker;
 use super::results_file::{
     NADAL_ATTRIBUTES, RESULTS_SCHEMA, RESULTS_SCHEMA_VERSION, RESULTS_TOOL, hdf5_err,
 };
+use super::results_series::{SeriesCursor, SeriesSlot, add_columns};
 use super::{SchemaError, attrs};
 use crate::io::AtomicFile;
 use crate::results::{
-    Column, Dataset, ResultsSink, RunResults, SinkError, TIME_S, Values, WHEEL_COLUMNS,
-    WHEEL_GROUPS, WHEELSET_COLUMNS, ZONE_COLUMNS, ZONE_GROUPS, wheelset_group,
+    ResultsSink, RunResults, SinkError, TIME_S, WHEEL_COLUMNS, WHEEL_GROUPS, WHEELSET_COLUMNS,
+    ZONE_COLUMNS, ZONE_GROUPS, wheelset_group,
 };
 
 /// Samples per HDF5 chunk of every dataset (8 KiB of f64): the unit in
@@ -30,13 +33,18 @@ pub const RESULTS_CHUNK_SAMPLES: usize = 1024;
 /// per 1 024 samples, a few to a few dozen.
 const RESULTS_BTREE_K: u32 = 2;
 
-/// Hash slots of each series' chunk cache while it is written (HDF5's
-/// default 521 is for random access to many chunks; a series is appended
-/// one chunk at a time). The cache holds one f64 chunk
-/// ([`RESULTS_CHUNK_SAMPLES`] × 8 bytes; HDF5's default is 1 MiB): a
-/// chunk is written out when the next one starts instead of staying in
-/// memory until the file is closed.
+/// Hash slots of each series' chunk cache (HDF5's default 521 is for
+/// random access to many chunks). The cache itself holds no bytes (HDF5's
+/// default is 1 MiB per dataset): `sim run` hands its samples over in
+/// whole chunks (`FLUSH_SAMPLES`, four chunks, then the rest at the end),
+/// so each chunk is written once and a cached copy would only cost memory
+/// — 8 KiB per series, 890 of the car's page faults. A chunk written in
+/// part (the last, or any with another caller's chunking) is read back
+/// and completed by the library.
 const RESULTS_CHUNK_CACHE_SLOTS: usize = 7;
+
+/// Bytes of each series' chunk cache (see [`RESULTS_CHUNK_CACHE_SLOTS`]).
+const RESULTS_CHUNK_CACHE_BYTES: usize = 0;
 
 /// A results file being written; see the module docs.
 #[derive(Debug)]
@@ -48,90 +56,15 @@ pub struct ResultsWriter {
     wheelsets: Option<usize>,
     /// Bodies whose groups were made with the wheelset groups (`bodies/`).
     bodies: usize,
-    /// Every dataset, kept open from its creation, in creation order
-    /// (`time_s`, the wheelsets' columns, the bodies' columns; the order
-    /// [`Self::append_chunk`] appends in): opening 200 datasets by name
-    /// at every append cost as much as writing their samples.
-    series: Vec<hdf5::Dataset>,
+    /// Every series, in the order [`Self::append_chunk`] appends in
+    /// (`time_s`, the wheelsets' columns, the bodies' columns), each made
+    /// with its first samples and open only while it is written
+    /// ([`super::results_series`]).
+    series: Vec<SeriesSlot>,
     /// The property lists, dataspace and string type every series shares.
     maker: SeriesMaker,
     written: usize,
     last_time_s: Option<f64>,
-}
-
-/// Create the empty, extendable dataset `dataset` of `group` (through
-/// `maker`, [`super::raw_series`]).
-fn create_series<T: SeriesValue>(
-    path: &Path,
-    maker: &SeriesMaker,
-    group: &hdf5::Group,
-    dataset: &Dataset,
-) -> Result<hdf5::Dataset, SchemaError> {
-    maker
-        .create::<T>(group, dataset.name, dataset.units, dataset.description)
-        .map_err(|source| {
-            let what = format!("{}/{}", group.name().trim_end_matches('/'), dataset.name);
-            hdf5_err(path, format!("creating {what}"))(source)
-        })
-}
-
-/// The next of the open datasets `series` (in creation order).
-pub(super) fn next_series<'a>(
-    path: &Path,
-    series: &mut std::slice::Iter<'a, hdf5::Dataset>,
-) -> Result<&'a hdf5::Dataset, SchemaError> {
-    series.next().ok_or_else(|| SchemaError::Invalid {
-        path: path.to_path_buf(),
-        object: "/".into(),
-        rule: "a chunk holds more series than the file was made with".into(),
-    })
-}
-
-/// Append `values` to `ds`, which holds `from` values.
-fn append_series<T: SeriesValue>(
-    path: &Path,
-    ds: &hdf5::Dataset,
-    from: usize,
-    values: &[T],
-) -> Result<(), SchemaError> {
-    raw_series::append(ds, from, values)
-        .map_err(|e| hdf5_err(path, format!("writing {}", ds.name()))(e))
-}
-
-/// Create the datasets of `columns` in `group`, appended to `series`.
-pub(super) fn create_columns<S, V>(
-    path: &Path,
-    maker: &SeriesMaker,
-    group: &hdf5::Group,
-    columns: &[Column<S, V>],
-    series: &mut Vec<hdf5::Dataset>,
-) -> Result<(), SchemaError> {
-    for c in columns {
-        series.push(match &c.values {
-            Values::F64(_) => create_series::<f64>(path, maker, group, &c.dataset)?,
-            Values::Flags { .. } => create_series::<u8>(path, maker, group, &c.dataset)?,
-        });
-    }
-    Ok(())
-}
-
-/// Append the columns of `s` to the next datasets of `series` (those
-/// [`create_columns`] made for `columns`).
-pub(super) fn append_columns<S, V>(
-    path: &Path,
-    series: &mut std::slice::Iter<'_, hdf5::Dataset>,
-    columns: &[Column<S, V>],
-    s: &S,
-    from: usize,
-) -> Result<(), SchemaError> {
-    for c in columns {
-        let ds = next_series(path, series)?;
-        match &c.values {
-            Values::F64(a) => append_series(path, ds, from, (a.series)(s))?,
-            Values::Flags { access, .. } => append_series(path, ds, from, (access.series)(s))?,
-        }
-    }
-    Ok(())
 }
 
 pub(super) fn create_group(
@@ -151,21 +84,18 @@ impl ResultsWriter {
     /// first chunk (their names and Nadal limits).
     pub fn create(path: &Path) -> Result<Self, SchemaError> {
         let atomic = AtomicFile::new(path);
-        // Memory per series (every series' first chunk is written before
-        // any is closed, so each holds its own buffers): chunk-index
-        // B-tree nodes of K = 2 (HDF5's default 32 sizes each node for 64
-        // chunks, where a run has a few) and a chunk cache of 7 slots and
-        // one chunk per dataset (defaults 521 and 1 MiB; one chunk per
-        // series is written at a time). The car's run: 7 710 → 6 610 page
-        // faults, −5 M instructions; the bogie's (3 chunks): 6 350 →
-        // 5 500; readers see the same file.
+        // Memory per series: chunk-index B-tree nodes of K = 2 (HDF5's
+        // default 32 sizes each node for 64 chunks, where a run has a few)
+        // and no chunk cache (above). The car's run: 7 710 → 6 610 page
+        // faults with K = 2 and a one-chunk cache, −5 M instructions;
+        // 6 660 → 5 780 without the cache; readers see the same file.
         let file = hdf5::File::with_options()
             .with_fcpl(|p| {
                 p.attr_creation_order(hdf5::plist::file_create::AttrCreationOrder::Indexed)
                     .istore_k(RESULTS_BTREE_K)
             })
             .with_fapl(|p| {
-                p.chunk_cache(RESULTS_CHUNK_CACHE_SLOTS, RESULTS_CHUNK_SAMPLES * 8, 0.75)
+                p.chunk_cache(RESULTS_CHUNK_CACHE_SLOTS, RESULTS_CHUNK_CACHE_BYTES, 0.75)
             })
             .create(atomic.temp_path())
             .map_err(|source| SchemaError::Create {
@@ -177,7 +107,7 @@ impl ResultsWriter {
         attrs::write_str(path, &file, "tool", RESULTS_TOOL)?;
         attrs::write_str(path, &file, "tool_version", env!("CARGO_PKG_VERSION"))?;
         let maker = SeriesMaker::new().map_err(hdf5_err(path, "preparing the series"))?;
-        let time = create_series::<f64>(path, &maker, &file, &TIME_S)?;
+        let time = SeriesSlot::new(&file, TIME_S);
         Ok(Self {
             path: path.to_path_buf(),
             atomic,
@@ -211,10 +141,10 @@ impl ResultsWriter {
         for (i, ws) in record.wheelsets.iter().enumerate() {
             let g = create_group(path, &self.file, &wheelset_group(i))?;
             attrs::write_str(path, &g, "name", &ws.name)?;
-            create_columns(path, &self.maker, &g, &WHEELSET_COLUMNS, &mut self.series)?;
+            add_columns(&g, &WHEELSET_COLUMNS, &mut self.series);
             for (wheel, wg) in ws.wheels.iter().zip(WHEEL_GROUPS) {
                 let g = create_group(path, &g, wg)?;
-                create_columns(path, &self.maker, &g, &WHEEL_COLUMNS, &mut self.series)?;
+                add_columns(&g, &WHEEL_COLUMNS, &mut self.series);
                 if let Some(n) = &wheel.nadal {
                     let values = [n.flange_angle_rad, n.friction, n.limit];
                     for (name, v) in NADAL_ATTRIBUTES.into_iter().zip(values) {
@@ -223,11 +153,11 @@ impl ResultsWriter {
                 }
                 for zg in ZONE_GROUPS {
                     let g = create_group(path, &g, zg)?;
-                    create_columns(path, &self.maker, &g, &ZONE_COLUMNS, &mut self.series)?;
+                    add_columns(&g, &ZONE_COLUMNS, &mut self.series);
                 }
             }
         }
-        super::results_bodies::create(path, &self.maker, &self.file, record, &mut self.series)?;
+        super::results_bodies::create(path, &self.file, record, &mut self.series)?;
         self.bodies = record.bodies.len();
         self.wheelsets = Some(record.wheelsets.len());
         Ok(())
@@ -289,35 +219,36 @@ impl ResultsWriter {
             ..RunResults::default()
         };
         // Appending nothing from 0 resizes every dataset to 0.
+        let no_bodies = vec![crate::results::BodySeries::default(); self.bodies];
+        self.append_series_of(&[], &empty.wheelsets, &no_bodies, 0)?;
         self.written = 0;
         self.last_time_s = None;
-        let no_bodies = vec![crate::results::BodySeries::default(); self.bodies];
-        self.append_series_of(&[], &empty.wheelsets, &no_bodies, 0)
+        Ok(())
     }
 
-    /// Append the time, wheelset and body series to every open dataset,
-    /// in creation order, from sample `from` on (nothing from 0: every
-    /// dataset back to length 0).
+    /// Append the time, wheelset and body series to every series, in
+    /// their order, from sample `from` on (nothing from 0: every series
+    /// back to length 0; nothing from the end: only the series not made
+    /// yet are made).
     fn append_series_of(
-        &self,
+        &mut self,
         time_s: &[f64],
         wheelsets: &[crate::results::WheelsetSeries],
         bodies: &[crate::results::BodySeries],
         from: usize,
     ) -> Result<(), SchemaError> {
-        let path = &self.path;
-        let mut series = self.series.iter();
-        append_series(path, next_series(path, &mut series)?, from, time_s)?;
+        let mut series = SeriesCursor::new(&self.path, &self.maker, &mut self.series, self.written);
+        series.append(from, time_s)?;
         for ws in wheelsets {
-            append_columns(path, &mut series, &WHEELSET_COLUMNS, ws, from)?;
+            series.append_columns(&WHEELSET_COLUMNS, ws, from)?;
             for wheel in &ws.wheels {
-                append_columns(path, &mut series, &WHEEL_COLUMNS, wheel, from)?;
+                series.append_columns(&WHEEL_COLUMNS, wheel, from)?;
                 for zone in &wheel.zones {
-                    append_columns(path, &mut series, &ZONE_COLUMNS, zone, from)?;
+                    series.append_columns(&ZONE_COLUMNS, zone, from)?;
                 }
             }
         }
-        super::results_bodies::append(path, &mut series, bodies, from)
+        super::results_bodies::append(&mut series, bodies, from)
     }
 
     /// Write the run's metadata (`record`'s attributes, named as
@@ -336,11 +267,20 @@ impl ResultsWriter {
             source,
         })?;
         self.ensure_wheelsets(record)?;
+        // The series of a run that ended before its first sample are made
+        // now, empty (appending nothing at the end makes only those).
+        let no_wheelsets = vec![Default::default(); record.wheelsets.len()];
+        let no_bodies = vec![crate::results::BodySeries::default(); self.bodies];
+        self.append_series_of(&[], &no_wheelsets, &no_bodies, self.written)?;
         let path = self.path;
         for (name, value) in &record.attributes {
             attrs::write_value(&path, &self.file, name, value)?;
         }
-        super::results_file::write_scene(&path, &self.file, &record.scene_toml)?;
+        super::results_file::write_scene(&path, &self.maker, &self.file, &record.scene_toml)?;
+        // Every handle into the file is released before it is closed, so
+        // that the close writes everything out (and reports a failure)
+        // before the file is moved into place.
+        drop(std::mem::take(&mut self.series));
         self.file.close().map_err(hdf5_err(&path, "closing"))?;
         self.atomic.commit().map_err(|source| SchemaError::Io {
             path: path.clone(),
