@@ -46,6 +46,33 @@ const RESULTS_CHUNK_CACHE_SLOTS: usize = 7;
 /// Bytes of each series' chunk cache (see [`RESULTS_CHUNK_CACHE_SLOTS`]).
 const RESULTS_CHUNK_CACHE_BYTES: usize = 0;
 
+/// Size of the file's metadata cache (bytes), fixed: HDF5's default
+/// starts at 2 MiB and grows to 32 MiB. The writer touches each object
+/// header while it makes and writes that series, then not again until the
+/// next flush, so a cache of a few headers serves it; a larger one only
+/// keeps the headers of the whole file in memory until it is closed. The
+/// car's run (438 series): 4 280 → 3 250 page faults, −7 M instructions;
+/// a 100 s run (3 flushes) as fast; the same file.
+const RESULTS_METADATA_CACHE_BYTES: usize = 64 << 10;
+
+/// The metadata cache configuration of a results file being written
+/// ([`RESULTS_METADATA_CACHE_BYTES`], neither grown nor shrunk).
+fn metadata_cache() -> hdf5::plist::file_access::MetadataCacheConfig {
+    use hdf5::plist::file_access::{
+        CacheDecreaseMode, CacheIncreaseMode, FlashIncreaseMode, MetadataCacheConfig,
+    };
+    MetadataCacheConfig {
+        set_initial_size: true,
+        initial_size: RESULTS_METADATA_CACHE_BYTES,
+        min_size: RESULTS_METADATA_CACHE_BYTES,
+        max_size: RESULTS_METADATA_CACHE_BYTES,
+        incr_mode: CacheIncreaseMode::Off,
+        flash_incr_mode: FlashIncreaseMode::Off,
+        decr_mode: CacheDecreaseMode::Off,
+        ..MetadataCacheConfig::default()
+    }
+}
+
 /// A results file being written; see the module docs.
 #[derive(Debug)]
 pub struct ResultsWriter {
@@ -96,6 +123,7 @@ impl ResultsWriter {
             })
             .with_fapl(|p| {
                 p.chunk_cache(RESULTS_CHUNK_CACHE_SLOTS, RESULTS_CHUNK_CACHE_BYTES, 0.75)
+                    .mdc_config(&metadata_cache())
             })
             .create(atomic.temp_path())
             .map_err(|source| SchemaError::Create {
