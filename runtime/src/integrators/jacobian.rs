@@ -74,6 +74,12 @@ use super::{IntegratorError, OdeSystem, eval, eval_column};
 /// error 8.8 → 7.8 µm.
 pub const FD_RELATIVE_STEP: f64 = 1e-6;
 
+/// Relative difference of 1/(hγ) within which W's factors are kept
+/// ([`BlockJacobian::factored_near`]): a step that ends on an output time
+/// differs from the last by round-off (reference 8.5, "Steps on the
+/// output grid").
+pub(super) const W_REUSE_ROUND_OFF: f64 = 1e-9;
+
 /// Which diagonal blocks of the Jacobian the system asks the stiff
 /// integrator to approximate, and which blocks may be perturbed together
 /// (module docs).
@@ -403,6 +409,13 @@ impl BlockJacobian {
 
     /// LU-factorise W = I·`inv_h_gamma` − J block by block (unless already
     /// done for this value). Returns false when a block is singular.
+    /// The 1/(hγ) W is factored for, when it lies within
+    /// [`W_REUSE_ROUND_OFF`] (relative) of `inv_h_gamma`.
+    pub(super) fn factored_near(&self, inv_h_gamma: f64) -> Option<f64> {
+        let f = self.factored_for;
+        (f > 0.0 && (f - inv_h_gamma).abs() <= W_REUSE_ROUND_OFF * inv_h_gamma).then_some(f)
+    }
+
     pub(super) fn factor(&mut self, inv_h_gamma: f64) -> bool {
         if self.factored_for == inv_h_gamma {
             return true;

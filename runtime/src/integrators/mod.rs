@@ -52,7 +52,10 @@
 //! the dense-output state of the step containing them (DOPRI5: the
 //! 4th-order continuous extension, [`dopri5`]; RK4: cubic Hermite between
 //! the step's end states and derivatives, [`rk4`]). t0 == t_end is allowed:
-//! one evaluation, one accept, one observer call.
+//! one evaluation, one accept, one observer call. The Rosenbrock method
+//! ends a step capped by its largest step on the last grid time the step
+//! would pass ([`rosenbrock`], "Steps on the output grid"), so that time
+//! receives the exact state.
 //!
 //! # Errors
 //!
@@ -409,6 +412,15 @@ fn eval_column<S: OdeSystem>(
     Ok(first_non_finite(dydt))
 }
 
+/// Relative round-off a step may be stretched by to end on a grid time
+/// ([`OutputCursor::landing`]): a step of exactly one output interval from
+/// a grid time reaches the next one within a few ulps.
+const LANDING_ROUND_OFF: f64 = 1e-9;
+
+/// A step is not shortened below this fraction of itself to end on a
+/// grid time ([`OutputCursor::landing`]): it would cost a whole step.
+const LANDING_MIN_FRACTION: f64 = 0.01;
+
 /// Walks the output grid (module docs, "Output grid").
 #[derive(Debug, Clone)]
 struct OutputCursor {
@@ -452,6 +464,28 @@ impl OutputCursor {
         } else {
             None
         }
+    }
+
+    /// The grid time a step from `t` of `h` may end on instead of passing
+    /// it (module docs, "Output grid"): the last one not yet emitted in
+    /// (t + [`LANDING_MIN_FRACTION`]·h, t + h·(1 + [`LANDING_ROUND_OFF`])],
+    /// before the final time.
+    fn landing(&self, t: f64, h: f64) -> Option<f64> {
+        let reach = t + h * (1.0 + LANDING_ROUND_OFF);
+        let mut k = ((reach - self.t0) / self.interval_s).floor();
+        if !(k.is_finite() && k >= 0.0) {
+            return None;
+        }
+        // The grid time from k, as `next_in_step` computes it; one back if
+        // the division rounded up.
+        let mut t_k = self.t0 + k * self.interval_s;
+        if t_k > reach {
+            k -= 1.0;
+            t_k = self.t0 + k * self.interval_s;
+        }
+        let on_grid = k >= self.next_k as f64;
+        (on_grid && t_k > t + LANDING_MIN_FRACTION * h && t_k < self.t_end - self.eps)
+            .then_some(t_k)
     }
 
     /// After an accepted state at `t_curr` (the step from `t_prev`, or the

@@ -228,7 +228,7 @@ fn main_contact(
 mod tests {
     use super::*;
     use crate::fixtures::vehicles::ShippedVehicle;
-    use crate::integrators::{Method, OdeSystem, OutputGrid, Rk4, integrate};
+    use crate::integrators::{Method, OdeSystem, OutputGrid, Rk4, Rosenbrock, integrate};
     use crate::multibody::InitialConditions;
 
     /// RK4 step (s): 2⁻¹¹ s, about 0.5 ms, so that the grid times below are
@@ -278,6 +278,47 @@ mod tests {
         let (evaluations, samples) = run(1.5 * H_S, steps);
         assert_eq!(samples, 7);
         assert_eq!(evaluations, integrator_evaluations + 4);
+    }
+
+    /// Rosenbrock steps capped by `max_step_s` end on the output times
+    /// they would pass (`integrators::rosenbrock`, "Steps on the output
+    /// grid"), so the samples are steps' ends and cost no evaluation of
+    /// their own.
+    #[test]
+    fn capped_rosenbrock_steps_end_on_the_output_times() {
+        let which = ShippedVehicle::Ml95Wheelset;
+        let (vehicle, track) = which.build().expect("the shipped profiles");
+        let initial = InitialConditions {
+            lateral_m: 0.001,
+            yaw_rad: 0.0,
+        };
+        let (mut system, y0) =
+            VehicleSystem::assemble(&track, &vehicle, which.settings(20.0), initial)
+                .expect("assembles");
+        let mut recorder = Recorder::new(&system);
+        // Steps capped at 0.25 ms (the error control asks for more),
+        // samples every 1 ms: every fourth step ends on one.
+        let method = Method::Rosenbrock(Rosenbrock {
+            max_step_s: 2.5e-4,
+            ..Rosenbrock::default()
+        });
+        let stats = integrate(
+            &method,
+            &mut system,
+            0.0,
+            &y0,
+            0.05,
+            &OutputGrid { interval_s: 1e-3 },
+            &mut |sys, t, y| recorder.record(sys, t, y),
+        )
+        .expect("integrates");
+        assert_eq!(recorder.results.len(), 51);
+        assert!(stats.steps >= 200, "{} steps", stats.steps);
+        assert_eq!(
+            system.counters().evaluations,
+            stats.rhs_evaluations,
+            "every sample at a step's end"
+        );
     }
 
     /// The last accepted state's evaluation is current until the next
