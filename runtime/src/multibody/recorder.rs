@@ -228,16 +228,19 @@ fn main_contact(
 mod tests {
     use super::*;
     use crate::fixtures::vehicles::ShippedVehicle;
-    use crate::integrators::{Method, OdeSystem, OutputGrid, Rk4, Rosenbrock, integrate};
+    use crate::integrators::{
+        IntegrationStats, Method, OdeSystem, OutputGrid, Rk4, Rosenbrock, integrate,
+    };
     use crate::multibody::InitialConditions;
 
     /// RK4 step (s): 2⁻¹¹ s, about 0.5 ms, so that the grid times below are
     /// exact in binary and fall on the steps bit for bit.
     const H_S: f64 = 1.0 / 2048.0;
 
-    /// RK4 over `steps` steps of [`H_S`] with an output every
-    /// `interval_s`: the system's evaluation count and the samples.
-    fn run(interval_s: f64, steps: u32) -> (u64, usize) {
+    /// `method` from 0 to `t_end_s` on the ML95-like wheelset, 1 mm off
+    /// centre, with an output every `interval_s`: the system's evaluation
+    /// count, the samples and the integrator's counters.
+    fn run_with(method: &Method, t_end_s: f64, interval_s: f64) -> (u64, usize, IntegrationStats) {
         let which = ShippedVehicle::Ml95Wheelset;
         let (vehicle, track) = which.build().expect("the shipped profiles");
         let initial = InitialConditions {
@@ -248,18 +251,25 @@ mod tests {
             VehicleSystem::assemble(&track, &vehicle, which.settings(20.0), initial)
                 .expect("assembles");
         let mut recorder = Recorder::new(&system);
-        let h = H_S;
-        integrate(
-            &Method::Rk4(Rk4 { step_s: h }),
+        let stats = integrate(
+            method,
             &mut system,
             0.0,
             &y0,
-            f64::from(steps) * h,
+            t_end_s,
             &OutputGrid { interval_s },
             &mut |sys, t, y| recorder.record(sys, t, y),
         )
         .expect("integrates");
-        (system.counters().evaluations, recorder.results.len())
+        (system.counters().evaluations, recorder.results.len(), stats)
+    }
+
+    /// RK4 over `steps` steps of [`H_S`] with an output every
+    /// `interval_s`: the system's evaluation count and the samples.
+    fn run(interval_s: f64, steps: u32) -> (u64, usize) {
+        let rk4 = Method::Rk4(Rk4 { step_s: H_S });
+        let (evaluations, samples, _) = run_with(&rk4, f64::from(steps) * H_S, interval_s);
+        (evaluations, samples)
     }
 
     /// Samples at accepted states (the output grid on the steps) cost no
@@ -286,37 +296,17 @@ mod tests {
     /// their own.
     #[test]
     fn capped_rosenbrock_steps_end_on_the_output_times() {
-        let which = ShippedVehicle::Ml95Wheelset;
-        let (vehicle, track) = which.build().expect("the shipped profiles");
-        let initial = InitialConditions {
-            lateral_m: 0.001,
-            yaw_rad: 0.0,
-        };
-        let (mut system, y0) =
-            VehicleSystem::assemble(&track, &vehicle, which.settings(20.0), initial)
-                .expect("assembles");
-        let mut recorder = Recorder::new(&system);
         // Steps capped at 0.25 ms (the error control asks for more),
         // samples every 1 ms: every fourth step ends on one.
         let method = Method::Rosenbrock(Rosenbrock {
             max_step_s: 2.5e-4,
             ..Rosenbrock::default()
         });
-        let stats = integrate(
-            &method,
-            &mut system,
-            0.0,
-            &y0,
-            0.05,
-            &OutputGrid { interval_s: 1e-3 },
-            &mut |sys, t, y| recorder.record(sys, t, y),
-        )
-        .expect("integrates");
-        assert_eq!(recorder.results.len(), 51);
+        let (evaluations, samples, stats) = run_with(&method, 0.05, 1e-3);
+        assert_eq!(samples, 51);
         assert!(stats.steps >= 200, "{} steps", stats.steps);
         assert_eq!(
-            system.counters().evaluations,
-            stats.rhs_evaluations,
+            evaluations, stats.rhs_evaluations,
             "every sample at a step's end"
         );
     }
