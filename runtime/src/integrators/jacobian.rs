@@ -407,8 +407,6 @@ impl BlockJacobian {
         Ok(())
     }
 
-    /// LU-factorise W = I·`inv_h_gamma` − J block by block (unless already
-    /// done for this value). Returns false when a block is singular.
     /// The 1/(hγ) W is factored for, when it lies within
     /// [`W_REUSE_ROUND_OFF`] (relative) of `inv_h_gamma`.
     pub(super) fn factored_near(&self, inv_h_gamma: f64) -> Option<f64> {
@@ -416,6 +414,8 @@ impl BlockJacobian {
         (f > 0.0 && (f - inv_h_gamma).abs() <= W_REUSE_ROUND_OFF * inv_h_gamma).then_some(f)
     }
 
+    /// LU-factorise W = I·`inv_h_gamma` − J block by block (unless already
+    /// done for this value). Returns false when a block is singular.
     pub(super) fn factor(&mut self, inv_h_gamma: f64) -> bool {
         if self.factored_for == inv_h_gamma {
             return true;

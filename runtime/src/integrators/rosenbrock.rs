@@ -88,10 +88,11 @@
 //! `max_step_s` a multiple of the output interval the capped steps stay
 //! on the grid once one has landed: on the Cooperrider car, whose steps
 //! are capped for most of its last 8 s, the 1 001 samples needed 999
-//! evaluations of their own and need 168 (−4 % instructions). A landed step differs from the last by round-off,
-//! so W's factors are kept when 1/(hγ) is within 10⁻⁹ of theirs: for a
-//! W-method that is the matrix I/(hγ) − (J + δI) with δ of that size,
-//! one more admissible choice (module docs of [`super::jacobian`]).
+//! evaluations of their own and need 168 (−4 % instructions). A landed
+//! step differs from the last by round-off, so W's factors are kept when
+//! 1/(hγ) is within 10⁻⁹ of theirs: for a W-method that is the matrix
+//! I/(hγ) − (J + δI) with δ of that size, one more admissible choice
+//! (module docs of [`super::jacobian`]).
 //! Steps the error control shortens are left as they are: shortening
 //! them further would cost steps.
 //!

@@ -295,21 +295,6 @@ impl SeriesMaker {
     }
 }
 
-/// Open the series `name` of `group` (made by [`SeriesMaker::create`]).
-pub(super) fn open(group: &hdf5::Group, name: &str) -> Result<hdf5::Dataset, hdf5::Error> {
-    let c_name = c_string(name)?;
-    let _lock = hdf5_sys::LOCK.lock();
-    // SAFETY: the group id is valid while `group` lives; the dataset id is
-    // handed to an `hdf5::Dataset` (which closes it) at once.
-    unsafe {
-        let id = check_id(
-            h5d::H5Dopen2(group.id(), c_name.as_ptr(), h5p::H5P_DEFAULT),
-            "H5Dopen2",
-        )?;
-        hdf5::from_id::<hdf5::Dataset>(id)
-    }
-}
-
 /// Extend the series `dataset` to `from + values.len()` values and write
 /// `values` from `from` on (`from` must be its current length; with no
 /// values, it is only resized).

@@ -104,7 +104,8 @@ impl<'a> SeriesCursor<'a> {
         }
         let d = &slot.dataset;
         let dataset = if slot.made {
-            raw_series::open(&slot.group, d.name)
+            slot.group
+                .dataset(d.name)
                 .map_err(|e| hdf5_err(path, format!("opening {}", slot.name()))(e))?
         } else {
             self.maker

@@ -242,22 +242,24 @@ impl ResultsWriter {
 
     /// Drop every sample written (the datasets back to length 0).
     pub fn clear(&mut self) -> Result<(), SchemaError> {
-        let empty = RunResults {
-            wheelsets: vec![Default::default(); self.wheelsets.unwrap_or(0)],
-            ..RunResults::default()
-        };
-        // Appending nothing from 0 resizes every dataset to 0.
-        let no_bodies = vec![crate::results::BodySeries::default(); self.bodies];
-        self.append_series_of(&[], &empty.wheelsets, &no_bodies, 0)?;
+        self.append_nothing(0)?;
         self.written = 0;
         self.last_time_s = None;
         Ok(())
     }
 
+    /// Append no sample to every series from sample `from` on: from 0,
+    /// every series back to length 0; from the end, only the series not
+    /// made yet are made (empty).
+    fn append_nothing(&mut self, from: usize) -> Result<(), SchemaError> {
+        let no_wheelsets = vec![Default::default(); self.wheelsets.unwrap_or(0)];
+        let no_bodies = vec![crate::results::BodySeries::default(); self.bodies];
+        self.append_series_of(&[], &no_wheelsets, &no_bodies, from)
+    }
+
     /// Append the time, wheelset and body series to every series, in
-    /// their order, from sample `from` on (nothing from 0: every series
-    /// back to length 0; nothing from the end: only the series not made
-    /// yet are made).
+    /// their order, from sample `from` on ([`Self::append_nothing`]: no
+    /// samples).
     fn append_series_of(
         &mut self,
         time_s: &[f64],
@@ -296,10 +298,8 @@ impl ResultsWriter {
         })?;
         self.ensure_wheelsets(record)?;
         // The series of a run that ended before its first sample are made
-        // now, empty (appending nothing at the end makes only those).
-        let no_wheelsets = vec![Default::default(); record.wheelsets.len()];
-        let no_bodies = vec![crate::results::BodySeries::default(); self.bodies];
-        self.append_series_of(&[], &no_wheelsets, &no_bodies, self.written)?;
+        // now, empty.
+        self.append_nothing(self.written)?;
         let path = self.path;
         for (name, value) in &record.attributes {
             attrs::write_value(&path, &self.file, name, value)?;
