@@ -291,14 +291,20 @@ fn reader_rejects_other_versions_and_truncated_files() {
     let other = dir.join("other_version.h5");
     std::fs::copy(&good, &other).unwrap();
     {
-        let f = hdf5::File::open_rw(&other).unwrap();
+        // Opened with the strong close degree and closed explicitly, so
+        // that H5Fclose closes every object of the file and drops its lock
+        // before `sim probe` opens it: twice, on CI, the probe found the
+        // file still locked (errno 11), after the handle's drop and then
+        // after a close with the default (weak) degree, which leaves the
+        // file open while any of its objects is.
+        let f = hdf5::File::with_options()
+            .with_fapl(|p| p.fclose_degree(hdf5::plist::file_access::FileCloseDegree::Strong))
+            .open_rw(&other)
+            .unwrap();
         f.attr("schema_version")
             .unwrap()
             .write_scalar(&99u32)
             .unwrap();
-        // Closed explicitly (H5Fclose, which drops the file's lock) before
-        // `sim probe` opens it: once, on CI, the probe found the file still
-        // locked (errno 11) after the handle's drop.
         f.close().unwrap();
     }
     let o = run(sim().arg("probe").arg(&other).args(["--s", "1"]));
