@@ -489,3 +489,95 @@ fn time_stepping_follows_both_patches_across_the_flange_root_onset() {
     );
     assert!(searches < 20, "{searches} searches in {steps} steps");
 }
+
+/// Time stepping searches a piece again when the wheel moves relative to
+/// its rail, not when it travels (docs/reference/06-contact-detection.md
+/// §6.7): a wheelset rolling 30 m with the same pose on a straight track
+/// searches no piece after its first solve, and on a track whose left rail
+/// turns by 2 mrad at 20 m under a wheelset that keeps its pose relative to
+/// the track, the left wheel's tread is searched again there (the wheel's
+/// yaw relative to its rail changed), once.
+#[test]
+fn pieces_are_searched_again_when_the_rail_turns_under_the_wheel_not_when_it_travels() {
+    use runtime::geometry::track::{RailRow, RailTable};
+    let model = s1002_uic60().unwrap();
+    let straight = straight_track_for(&model, 40.0);
+    // The same track with the left rail's frame turned by 2 mrad about the
+    // vertical from 20 m on (its positions unchanged).
+    let mut turned = straight.clone();
+    let angle = 2e-3_f64;
+    let (s, c) = angle.sin_cos();
+    let yaw = |v: [f64; 3]| [c * v[0] - s * v[1], s * v[0] + c * v[1], v[2]];
+    let rows: Vec<RailRow> = straight
+        .left
+        .rows()
+        .iter()
+        .map(|r| {
+            if r.l_m < 20.0 {
+                *r
+            } else {
+                RailRow {
+                    t: yaw(r.t),
+                    n: yaw(r.n),
+                    b: yaw(r.b),
+                    ..*r
+                }
+            }
+        })
+        .collect();
+    turned.left = RailTable::new(Side::Left, rows).unwrap();
+    let st = settle(
+        &model,
+        &straight,
+        5.0,
+        0.002,
+        0.0,
+        Support::Elastic {
+            load_per_wheel_n: LOAD_N,
+            material: Material {
+                young_pa: 2.1e11,
+                poisson: 0.3,
+            },
+        },
+        &mut flange_solver(),
+    )
+    .unwrap();
+    let run = |track: &TrackTables| {
+        let mut stepping = ContactSolver::new(runtime::contact::ContactOptions {
+            reuse_clear_pieces: true,
+            ..Default::default()
+        });
+        // Searches after each solve, at 0.1 m steps from 5 m to 35 m.
+        (0..=300)
+            .map(|k| {
+                let pose = runtime::contact::WheelsetPose::on_track(
+                    track,
+                    5.0 + 0.1 * k as f64,
+                    0.002,
+                    st.height_m,
+                    0.0,
+                    st.roll_rad,
+                )
+                .unwrap();
+                let contacts = stepping.solve(&model, track, &pose).unwrap();
+                assert!(contacts.contacts().count() >= 2, "a contact on each wheel");
+                stepping.stats.cold_starts
+            })
+            .collect::<Vec<u64>>()
+    };
+    let on_straight = run(&straight);
+    assert!(on_straight[0] > 0, "the first solve searches");
+    assert_eq!(
+        on_straight[300], on_straight[0],
+        "travel alone called for a search"
+    );
+    let on_turned = run(&turned);
+    // Row 150 is at 20 m, where the left rail turns.
+    assert_eq!(on_turned[149], on_turned[0], "no search before the turn");
+    let after = on_turned[300] - on_turned[149];
+    assert!(
+        after >= 1,
+        "the turn under the left wheel called for no search"
+    );
+    assert_eq!(on_turned[300], on_turned[151], "searched at the turn only");
+}

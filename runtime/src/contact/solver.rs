@@ -205,12 +205,23 @@ struct WheelPosition {
     /// Lateral approach of the wheel towards its rail from the centred
     /// position (m), along the track's lateral vector.
     approach_m: f64,
-    /// Yaw of the wheelset relative to the track (rad, signed).
+    /// Yaw of the wheelset relative to the track (rad, signed): the flange
+    /// rule's (docs/reference/06-contact-detection.md §6.5).
     yaw_rad: f64,
     /// Height of the wheel's profile origin along the track normal (m).
     vertical_m: f64,
-    /// Roll of the axle relative to the track (rad, signed).
-    roll_rad: f64,
+    /// Sine of the yaw of the axle relative to this wheel's rail, about the
+    /// rail's normal: −η·t_r, η the axle, t_r the rail's own tangent (–,
+    /// positive as `yaw_rad`). Unlike `yaw_rad` it sees the rail's own
+    /// direction, which alignment irregularities turn by milliradians.
+    rail_yaw_sin: f64,
+    /// Sine of the roll of the axle relative to this wheel's rail, about
+    /// the rail's tangent: η·b_r, b_r the rail's own normal (–; it includes
+    /// the rail inclination, a constant: only its changes are used).
+    /// Both sines are compared by their changes, which for the angles of a
+    /// wheelset on its rail (below 0.1 rad) are the angles' changes to
+    /// within 0.5 %.
+    rail_roll_sin: f64,
 }
 
 /// Where wheel `side` is; `l` the rail's arc length at the wheelset's
@@ -218,7 +229,8 @@ struct WheelPosition {
 /// vectors there, normalised (looked up once per solve for both wheels).
 /// Lateral measures are taken along the track's lateral vector (not the
 /// rail frame's, which is tilted by the rail inclination: with it, the
-/// axle height would leak into the approach).
+/// axle height would leak into the approach); the angles for the
+/// clear-piece cache against the rail's own frame.
 fn wheel_position(
     model: &WheelsetContactModel,
     track: &TrackTables,
@@ -232,31 +244,40 @@ fn wheel_position(
         Side::Left => -1.0,
         Side::Right => 1.0,
     };
-    let rail_position = track.rail(side).position_at(l)?;
+    let rail = track.rail(side).at(l)?;
+    let axle = pose.frame.column(1);
     let h = -sigma * model.half_spacing_m(side);
-    let origin = pose.position + pose.frame.column(1) * h;
-    let delta = (origin - rail_position).dot(n);
+    let origin = pose.position + axle * h;
+    let delta = (origin - rail.position).dot(n);
     let spacing = model.placement().rail_spacing_m;
     let delta0 = -sigma * (model.half_spacing_m(side) - 0.5 * spacing);
     Ok(WheelPosition {
         approach_m: -sigma * (delta - delta0),
         yaw_rad: pose.frame.column(0).dot(n).clamp(-1.0, 1.0).asin(),
-        vertical_m: (origin - rail_position).dot(b),
-        roll_rad: pose.frame.column(1).dot(b).clamp(-1.0, 1.0).asin(),
+        vertical_m: (origin - rail.position).dot(b),
+        rail_yaw_sin: -axle.dot(&rail.frame.t),
+        rail_roll_sin: axle.dot(&rail.frame.b),
     })
 }
 
 /// Where the wheel was when a piece was last searched (time stepping). The
 /// piece is searched again only when the wheel has moved relative to its
-/// rail by more than [`CLEAR_RECHECK_M`] laterally or vertically,
-/// [`CLEAR_RECHECK_RAD`] in yaw or roll, or [`CLEAR_RECHECK_ALONG_M`] along
-/// the track, or when a patch followed on it is lost; in between, its
-/// patches are followed by warm start (a Newton solve, about 1 µs, where a
-/// search costs tens of µs) and a piece found without any stays clear.
+/// rail by more than [`CLEAR_RECHECK_M`] laterally or vertically or
+/// [`CLEAR_RECHECK_RAD`] in yaw or roll, or when a patch followed on it is
+/// lost; in between, its patches are followed by warm start (a Newton
+/// solve, about 0.3 µs, where a search costs about 30 µs) and a piece found
+/// without any stays clear.
+///
+/// Travel alone does not call for a search: the gap between a wheel piece
+/// and the rail is fixed by the wheel's position and angles relative to
+/// the rail's own point and frame at the wheel, which are watched, up to
+/// the rail's bending over the patch's lead or lag (15 mm on a 150 m
+/// radius: 0.75 µm). The wheelset's rotation about its axle changes
+/// nothing (a wheel is a body of revolution) and neither does the rail's
+/// pitch about it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Searched {
     at: WheelPosition,
-    s_track_m: f64,
 }
 
 /// Lateral motion of a wheel after which a piece is searched again (m). A
@@ -265,14 +286,10 @@ struct Searched {
 /// millimetres (S1002's flange root takes over between 5 and 7 mm of shift),
 /// so 0.2 mm is conservative.
 const CLEAR_RECHECK_M: f64 = 2e-4;
-/// Yaw or roll change after which a piece is searched again (rad).
+/// Yaw or roll change relative to the rail after which a piece is searched
+/// again (rad; compared as the change of the angle's sine, see
+/// `WheelPosition`).
 const CLEAR_RECHECK_RAD: f64 = 5e-4;
-/// Travel along the track after which a piece is searched again (m).
-/// The lateral and vertical measures above are taken against the rail's
-/// actual position, so alignment and level irregularities are already
-/// watched; this bound covers what they do not (changes of the rail's
-/// roll, a curve's frame turning), which vary over metres.
-const CLEAR_RECHECK_ALONG_M: f64 = 2.0;
 
 /// Largest gap (m) of a patch other than the deepest of its piece that is
 /// kept (and followed during time stepping) although not in contact: a
@@ -284,12 +301,11 @@ const CLEAR_RECHECK_ALONG_M: f64 = 2.0;
 pub const SECOND_PATCH_GAP_M: f64 = 5e-4;
 
 impl Searched {
-    fn still_valid(&self, now: &WheelPosition, s_track_m: f64) -> bool {
+    fn still_valid(&self, now: &WheelPosition) -> bool {
         (now.approach_m - self.at.approach_m).abs() < CLEAR_RECHECK_M
             && (now.vertical_m - self.at.vertical_m).abs() < CLEAR_RECHECK_M
-            && (now.yaw_rad - self.at.yaw_rad).abs() < CLEAR_RECHECK_RAD
-            && (now.roll_rad - self.at.roll_rad).abs() < CLEAR_RECHECK_RAD
-            && (s_track_m - self.s_track_m).abs() < CLEAR_RECHECK_ALONG_M
+            && (now.rail_yaw_sin - self.at.rail_yaw_sin).abs() < CLEAR_RECHECK_RAD
+            && (now.rail_roll_sin - self.at.rail_roll_sin).abs() < CLEAR_RECHECK_RAD
     }
 }
 
@@ -446,7 +462,7 @@ impl ContactSolver {
                 }
                 if stepping
                     && !lost[k]
-                    && self.searched[i][k].is_some_and(|c| c.still_valid(&position, pose.s_track_m))
+                    && self.searched[i][k].is_some_and(|c| c.still_valid(&position))
                 {
                     if !found.iter().any(|(_, c)| c.segment == k) {
                         self.stats.clear_skipped += 1;
@@ -454,10 +470,7 @@ impl ContactSolver {
                     continue;
                 }
                 let patches = model.search_piece(track, pose, side, k, &self.options)?;
-                self.searched[i][k] = Some(Searched {
-                    at: position,
-                    s_track_m: pose.s_track_m,
-                });
+                self.searched[i][k] = Some(Searched { at: position });
                 self.stats.solves += 1;
                 self.stats.cold_starts += 1;
                 if let Some(c) = patches.first() {
