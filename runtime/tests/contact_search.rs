@@ -11,7 +11,9 @@
 //! * two patches on one wheel at the flange root, each with its own
 //!   ellipse, creepages and forces;
 //! * the contact-point jumps at their onset, the same from either side and
-//!   at every call.
+//!   at every call;
+//! * during time stepping, a piece searched again when the wheel moves
+//!   relative to its rail, not when it travels.
 
 use runtime::contact::quasi_static::{Settled, Support, settle};
 use runtime::contact::{Candidate, ContactError, ContactSolver, WheelsetContactModel};
