@@ -2,7 +2,8 @@
 //! and contact lookup tables built for a wheel/rail pair are kept, keyed by
 //! a hash of everything they are built from (input texts, settings, tool
 //! version), so a scene runs with one command and the second run skips the
-//! build.
+//! build. The flangeway clearances (`super::flange_clearance`) and the
+//! planner's track facts (`super::plan`) are kept the same way.
 //!
 //! Location: `$RAILSIM_CACHE_DIR`, else `$XDG_CACHE_HOME/railsim`, else
 //! `$HOME/.cache/railsim`, else `<temp dir>/railsim-cache`. Files are

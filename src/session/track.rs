@@ -6,13 +6,13 @@
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
-use preproc::{BuildConfig, BuildRequest, GeometryFiles, NoProgress, build_tables};
+use preproc::{BuildConfig, BuildRequest, NoProgress, build_tables};
 use runtime::geometry::profile::rail_cant::{RailCantCheck, Spelling, check_rail_file, slope_text};
 use runtime::geometry::track::TrackTables;
 use serde::Serialize;
 
 use crate::config::scene::LoadedScene;
-use crate::session::cache::{Fnv64, cache_dir};
+use crate::session::cache::cache_dir;
 
 /// Where the track tables came from.
 #[derive(Debug, Clone, Serialize, PartialEq)]
@@ -161,30 +161,10 @@ pub fn load_track(ls: &LoadedScene) -> Result<(TrackTables, TrackSource)> {
     let geometry = crate::session::plan::geometry_files(ls)?;
     let irregularities = t.irregularities.as_ref().map(|p| ls.path(p));
     let config = crate::session::plan::build_config(ls)?;
-    let mut key = Fnv64::default();
+    let mut key = crate::session::plan::track_inputs_key(ls, &config)?;
     // "design elements": the tables record a design file's elements
     // (`/design`) since this layout; older cached tables lack them.
-    key.write_str(env!("CARGO_PKG_VERSION"))
-        .write_str("design elements")
-        .write_str(&format!("{config:?}"));
-    // The kind of geometry (a design file's text is not a centreline's),
-    // then the content of every input: the rail profile is recorded in the
-    // tables, so its content is part of the key too (`config` holds only
-    // its path).
-    key.write_str(match geometry {
-        GeometryFiles::Design(_) => "design",
-        GeometryFiles::ControlPoints { .. } => "control points",
-    });
-    for p in geometry
-        .paths()
-        .into_iter()
-        .chain(irregularities.as_deref())
-        .chain(config.rail_profile.as_deref())
-    {
-        let text =
-            std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?;
-        key.write_str(&text);
-    }
+    key.write_str("track tables with design elements");
     let path = cache_dir()?.join(format!("track-{:016x}.h5", key.finish()));
     if path.exists()
         && let Ok(tables) = runtime::io::schema::read_track(&path)

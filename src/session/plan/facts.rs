@@ -7,6 +7,7 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
+use preproc::BuildConfig;
 use runtime::geometry::track::{Side, TrackTables};
 use runtime::multibody::VehicleModel;
 use serde::Serialize;
@@ -172,7 +173,13 @@ pub(super) fn track_facts(ls: &LoadedScene, range: [f64; 2]) -> Result<TrackFact
         return Ok(f);
     }
     let config = build_config(ls)?;
-    let model = track_model(ls, &config)?;
+    super::facts_cache::cached(ls, &config, range, || probe(ls, &config, range))
+}
+
+/// The facts of a track built from CSV or design inputs, probed on the
+/// fitted centreline and rails every 5 cm over `range` (m).
+fn probe(ls: &LoadedScene, config: &BuildConfig, range: [f64; 2]) -> Result<TrackFacts> {
+    let model = track_model(ls, config)?;
     let length = model.centerline.length_m();
     let (a, b) = (range[0].max(0.0), range[1].min(length));
     // Probe every 5 cm (at most 200 000 points per curve): finer than the
@@ -181,7 +188,7 @@ pub(super) fn track_facts(ls: &LoadedScene, range: [f64; 2]) -> Result<TrackFact
     let n = ((b - a) / probe).ceil().max(1.0) as usize;
     let s: Vec<f64> = (0..=n).map(|k| a + (b - a) * k as f64 / n as f64).collect();
     let mut f = TrackFacts {
-        kind: "centerline".into(),
+        kind: super::facts_cache::KIND.into(),
         length_m: length,
         max_curvature_1_m: 0.0,
         max_cant_rad: 0.0,

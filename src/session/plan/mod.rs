@@ -45,6 +45,7 @@
 
 pub mod creep_law;
 pub mod facts;
+mod facts_cache;
 pub mod flange;
 pub mod integrator;
 pub mod irregularities;
@@ -74,7 +75,7 @@ pub use integrator::{
 pub use measured::{
     CreepLawCost, CreepLawCosts, Measured, MeasuredTableError, Provenance, TrackKind, measured,
 };
-pub use range::{build_config, build_track_range, geometry_files};
+pub use range::{build_config, build_track_range, geometry_files, track_inputs_key};
 pub use step::{FINEST_STEP_M, GEOMETRY_TOLERANCE_M, MAX_STEP_M, NICE_STEPS_M};
 
 /// The items the planner may choose (`[plan] choose`).

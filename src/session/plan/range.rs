@@ -12,6 +12,7 @@ use super::facts::{DYNAMICS_LOOKAHEAD_M, RANGE_MARGIN_M, TrackFacts, travel_m, v
 use super::{By, Decision};
 use crate::config::scene::{LoadedScene, PlanMode};
 use crate::config::vehicle::VehicleFile;
+use crate::session::cache::Fnv64;
 
 /// The track range to run with.
 #[derive(Debug, Clone, PartialEq)]
@@ -134,6 +135,34 @@ pub fn geometry_files(ls: &LoadedScene) -> Result<GeometryFiles> {
         },
         (None, None) => anyhow::bail!("[track] has neither centerline nor design inputs"),
     })
+}
+
+/// A cache key ([`crate::session::cache`]) holding everything the scene's
+/// track is built from: the tool version, the build configuration, the
+/// kind of geometry (a design file's text is not a centreline's) and the
+/// content of every input file (geometry, irregularities, rail profile;
+/// `config` holds only their paths). Each cache adds what its entry is.
+pub fn track_inputs_key(ls: &LoadedScene, config: &BuildConfig) -> Result<Fnv64> {
+    let geometry = geometry_files(ls)?;
+    let irregularities = ls.scene.track.irregularities.as_ref().map(|p| ls.path(p));
+    let mut key = Fnv64::default();
+    key.write_str(env!("CARGO_PKG_VERSION"))
+        .write_str(&format!("{config:?}"))
+        .write_str(match geometry {
+            GeometryFiles::Design(_) => "design",
+            GeometryFiles::ControlPoints { .. } => "control points",
+        });
+    for p in geometry
+        .paths()
+        .into_iter()
+        .chain(irregularities.as_deref())
+        .chain(config.rail_profile.as_deref())
+    {
+        let text =
+            std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?;
+        key.write_str(&text);
+    }
+    Ok(key)
 }
 
 /// The scene's CSV inputs fitted (every curve of the track, no tables).
