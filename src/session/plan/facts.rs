@@ -173,12 +173,16 @@ pub(super) fn track_facts(ls: &LoadedScene, range: [f64; 2]) -> Result<TrackFact
         return Ok(f);
     }
     let config = build_config(ls)?;
-    super::facts_cache::cached(ls, &config, range, || probe(ls, &config, range))
+    super::facts_cache::cached(ls, &config, range, || probe_facts(ls, &config, range))
 }
 
 /// The facts of a track built from CSV or design inputs, probed on the
 /// fitted centreline and rails every 5 cm over `range` (m).
-fn probe(ls: &LoadedScene, config: &BuildConfig, range: [f64; 2]) -> Result<TrackFacts> {
+pub(super) fn probe_facts(
+    ls: &LoadedScene,
+    config: &BuildConfig,
+    range: [f64; 2],
+) -> Result<TrackFacts> {
     let model = track_model(ls, config)?;
     let length = model.centerline.length_m();
     let (a, b) = (range[0].max(0.0), range[1].min(length));
