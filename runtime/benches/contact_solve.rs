@@ -1,5 +1,8 @@
 //! Criterion bench: one warm-started tread contact solve (Newton from the
-//! previous step's surface parameters), a whole wheelset step (both wheels,
+//! previous step's surface parameters), the same solve as time stepping
+//! makes it (the patch followed from its solve at the previous pose: the
+//! start from the predictor, the lookups from the last pieces), a whole
+//! wheelset step (both wheels,
 //! time stepping: patches followed by warm start), a cold solve (coarse
 //! search + Newton) and a quasi-static wheelset solve (every piece searched
 //! afresh), for S1002 on UIC60 and the ML95-like wheel on UIC60 1:20 (the
@@ -9,7 +12,9 @@ use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use runtime::contact::quasi_static::{Support, settle};
-use runtime::contact::{ContactOptions, ContactSolver, FlangeSearch, SurfaceParams, WheelsetPose};
+use runtime::contact::{
+    ContactOptions, ContactSolver, FlangeSearch, FollowedPatch, SurfaceParams, WheelsetPose,
+};
 use runtime::fixtures::wheelsets;
 use runtime::geometry::track::Side;
 
@@ -56,6 +61,32 @@ fn bench(c: &mut Criterion) {
                     &options,
                 )
                 .expect("solves")
+            })
+        });
+        // The same move as time stepping makes it: the patch followed from
+        // its solve at the other pose (the two alternate: 2 cm on, 10 µm
+        // sideways), so every solve is a warm one from the previous pose.
+        let pose_prev =
+            WheelsetPose::on_track(&track, 10.0, 0.002, st.height_m, 0.001, st.roll_rad)
+                .expect("pose");
+        let c0 = m
+            .solve_pair(&track, &pose_prev, Side::Left, 0, Some(tread), &options)
+            .expect("solves")
+            .expect("tread contact");
+        let mut patch = FollowedPatch::new(&track, &pose_prev, &c0).expect("on the track");
+        patch
+            .solve(&m, &track, &pose_prev, &options)
+            .expect("solves")
+            .expect("followed");
+        let mut flip = false;
+        c.bench_function(&format!("contact_follow_tread_solve/{name}"), |b| {
+            b.iter(|| {
+                flip = !flip;
+                let p = if flip { &pose } else { &pose_prev };
+                patch
+                    .solve(&m, &track, black_box(p), &options)
+                    .expect("solves")
+                    .expect("followed")
             })
         });
         c.bench_function(&format!("contact_cold_tread_solve/{name}"), |b| {

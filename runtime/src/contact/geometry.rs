@@ -80,6 +80,8 @@ pub(crate) struct PairEval {
     /// Profile values at the internal (right-hand) coordinates σu.
     pub rail_profile: CurvePoint,
     pub wheel_profile: CurvePoint,
+    /// (sin s_w, cos s_w).
+    pub wheel_angle_sin_cos: (f64, f64),
 }
 
 /// Where a pair's lookups start: the rail head's and the wheel curve's
@@ -260,6 +262,7 @@ impl<'a> Pair<'a> {
             rail_d: rd,
             rail_profile: rp,
             wheel_profile: wp,
+            wheel_angle_sin_cos: (ss, cs),
         };
         Ok(())
     }

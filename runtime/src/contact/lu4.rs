@@ -15,40 +15,92 @@
 use nalgebra::{Matrix4, Vector4};
 
 /// `x` with `a x = b`, or `None` when `a` is singular (a zero pivot in U),
-/// as nalgebra's `LU::solve`.
-#[inline]
-pub(crate) fn solve(a: &Matrix4<f64>, b: &Vector4<f64>) -> Option<Vector4<f64>> {
-    // m[c][r]: column c, row r (nalgebra's storage); x the permuted
-    // right-hand side (the row swaps applied to it as they are made, as
-    // nalgebra's permutation sequence applies them in order before the
-    // substitutions).
-    let mut m: [[f64; 4]; 4] = a.data.0;
-    let [mut x] = b.data.0;
-    eliminate::<0>(&mut m, &mut x)?;
-    eliminate::<1>(&mut m, &mut x)?;
-    eliminate::<2>(&mut m, &mut x)?;
-    eliminate::<3>(&mut m, &mut x)?;
-    // L (unit diagonal).
-    forward::<0>(&m, &mut x);
-    forward::<1>(&m, &mut x);
-    forward::<2>(&m, &mut x);
-    // U.
-    backward::<3>(&m, &mut x)?;
-    backward::<2>(&m, &mut x)?;
-    backward::<1>(&m, &mut x)?;
-    backward::<0>(&m, &mut x)?;
+/// as nalgebra's `LU::solve` (the tests' reference form).
+#[cfg(test)]
+fn solve(a: &Matrix4<f64>, b: &Vector4<f64>) -> Option<Vector4<f64>> {
+    let mut lu = Lu4::ZERO;
+    lu.factor_solve(a, b)
+}
+
+/// The LU factors of a 4×4 matrix with the row swaps made, kept to solve
+/// again with another right-hand side (a Newton step's factors reused by
+/// the next solve's predictor, [`super::predictor`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Lu4 {
+    /// m[c][r]: column c, row r (nalgebra's storage): L's multipliers below
+    /// the diagonal, U on and above it.
+    m: [[f64; 4]; 4],
+    /// The row swapped with row I at elimination step I.
+    swaps: [u8; 4],
+}
+
+impl Lu4 {
+    /// Storage to factor into.
+    pub(crate) const ZERO: Self = Self {
+        m: [[0.0; 4]; 4],
+        swaps: [0, 1, 2, 3],
+    };
+
+    /// Factor `a` in place (the storage is reused, nothing is moved) and
+    /// solve `a x = b` with it: the row swaps applied to `b` as they are
+    /// made (before any substitution, as nalgebra's permutation sequence
+    /// applies them), then the two substitutions. `None` when `a` is
+    /// singular (the factors are then not usable).
+    #[inline]
+    pub(crate) fn factor_solve(
+        &mut self,
+        a: &Matrix4<f64>,
+        b: &Vector4<f64>,
+    ) -> Option<Vector4<f64>> {
+        self.m = a.data.0;
+        let [mut x] = b.data.0;
+        let m = &mut self.m;
+        self.swaps[0] = eliminate::<0>(m, &mut x)?;
+        self.swaps[1] = eliminate::<1>(m, &mut x)?;
+        self.swaps[2] = eliminate::<2>(m, &mut x)?;
+        self.swaps[3] = eliminate::<3>(m, &mut x)?;
+        substitute(m, x)
+    }
+
+    /// `x` with `a x = b`; `None` on a zero pivot in U. The row swaps are
+    /// applied to `b` in the order they were made, then the two
+    /// substitutions: the operations of nalgebra's solve, in its order.
+    #[inline]
+    pub(crate) fn solve(&self, b: &Vector4<f64>) -> Option<Vector4<f64>> {
+        let m = &self.m;
+        let [mut x] = b.data.0;
+        // (`& 3`: the rows are 0..4, which lets the bounds checks go.)
+        x.swap(0, usize::from(self.swaps[0]) & 3);
+        x.swap(1, usize::from(self.swaps[1]) & 3);
+        x.swap(2, usize::from(self.swaps[2]) & 3);
+        x.swap(3, usize::from(self.swaps[3]) & 3);
+        substitute(m, x)
+    }
+}
+
+/// The substitutions with the factors `m` on the permuted right-hand side
+/// `x`: L (unit diagonal), then U; `None` on a zero pivot in U.
+#[inline(always)]
+fn substitute(m: &[[f64; 4]; 4], mut x: [f64; 4]) -> Option<Vector4<f64>> {
+    forward::<0>(m, &mut x);
+    forward::<1>(m, &mut x);
+    forward::<2>(m, &mut x);
+    backward::<3>(m, &mut x)?;
+    backward::<2>(m, &mut x)?;
+    backward::<1>(m, &mut x)?;
+    backward::<0>(m, &mut x)?;
     Some(Vector4::new(x[0], x[1], x[2], x[3]))
 }
 
-/// Column `I` of the elimination: pivot (first row of largest |a|), row
-/// swap, multipliers `l_r = a_rI·(1/pivot)`, updates `a_rk ← a_rk + (−a_Ik)·l_r`.
+/// Column `I` of the elimination: pivot (first row of largest |a|, the
+/// row returned), row swap (of `x` too), multipliers `l_r = a_rI·(1/pivot)`, updates `a_rk ← a_rk + (−a_Ik)·l_r`.
 /// Constant `I` lets every loop unroll.
 ///
 /// `None` when the column has no non-zero entry from row `I` down: nalgebra
 /// skips the step, and U's diagonal entry `I` stays zero (later steps change
 /// only the rows below), so its solve returns `None` too.
 #[inline(always)]
-fn eliminate<const I: usize>(m: &mut [[f64; 4]; 4], x: &mut [f64; 4]) -> Option<()> {
+fn eliminate<const I: usize>(m: &mut [[f64; 4]; 4], x: &mut [f64; 4]) -> Option<u8> {
     let col = &m[I];
     let (piv, _) = (I + 1..4).fold((I, col[I].abs()), |(piv, max), r| {
         let v = col[r].abs();
@@ -76,7 +128,7 @@ fn eliminate<const I: usize>(m: &mut [[f64; 4]; 4], x: &mut [f64; 4]) -> Option<
             col[r] += p * l[r];
         }
     }
-    Some(())
+    Some(piv as u8)
 }
 
 /// Forward substitution with L's column `I` (unit diagonal).

@@ -48,6 +48,7 @@
 //! ```
 
 mod candidate;
+mod follow;
 mod geometry;
 pub mod imported;
 pub mod imported_lookup;
@@ -57,12 +58,14 @@ pub mod nadal;
 mod newton;
 pub mod patch_centre;
 mod pose;
+mod predictor;
 pub mod quasi_static;
 mod search;
 mod solver;
 pub mod table;
 
 pub use candidate::{Candidate, Curvatures, FLAT_RELATIVE_CURVATURE_1_M, SolveMethod};
+pub use follow::FollowedPatch;
 pub use geometry::SurfaceParams;
 pub use model::{DUPLICATE_M, WheelsetContactModel};
 pub use patch_centre::{PatchCentre, patch_centre};

@@ -5,6 +5,8 @@ use nalgebra::Vector4;
 
 use super::candidate::{Candidate, SolveMethod, from_eval};
 use super::geometry::{Pair, PairEval, PieceHints, SurfaceParams};
+use super::lu4::Lu4;
+use super::predictor::Linearisation;
 use super::search::RailSlopes;
 use super::{ContactError, ContactOptions, WheelsetPose, newton, search};
 use crate::geometry::profile::{
@@ -155,7 +157,9 @@ impl WheelsetContactModel {
         let mut result = Ok(None);
         if let (Some(g), Ok(found)) = (guess, &mut result) {
             let mut hints = PieceHints::NONE;
-            self.follow(track, pose, side, segment, g, &mut hints, options, found);
+            self.follow(
+                track, pose, side, segment, g, &mut hints, None, options, found,
+            );
             if found.as_ref().is_some_and(|c| c.segment == segment) {
                 return result;
             }
@@ -172,7 +176,10 @@ impl WheelsetContactModel {
     /// candidate names the piece it lies on), written into `found` (`None`
     /// when none is accepted); returns the iterations spent. The lookups
     /// start from `hints` (the same results whatever they hold), which are
-    /// left at the last evaluation's pieces.
+    /// left at the last evaluation's pieces. With `linear` (time stepping)
+    /// the start is the predictor's from the patch's last linearisation when
+    /// there is one (only `guess`'s rail arc length is used then), and the
+    /// linearisation is renewed at the solution (`None` when lost).
     #[inline]
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn follow(
@@ -183,24 +190,39 @@ impl WheelsetContactModel {
         segment: usize,
         guess: SurfaceParams,
         hints: &mut PieceHints,
+        mut linear: Option<&mut Option<Linearisation>>,
         options: &ContactOptions,
         found: &mut Option<Candidate>,
     ) -> u32 {
         let Some(pair) = self.pair(track, pose, side, segment) else {
             *found = None;
+            if let Some(l) = linear {
+                *l = None;
+            }
             return 0;
         };
         pair.set_hints(*hints);
+        let start = linear
+            .as_deref()
+            .and_then(|l| l.as_ref()?.start(pose, guess.s_rail_m))
+            .unwrap_or_else(|| guess.to_vector());
         let mut eval = PairEval::default();
-        let solved = newton::solve(&pair, guess.to_vector(), options.max_iterations, &mut eval);
+        let mut lu = Lu4::ZERO;
+        let solved = newton::solve(&pair, start, options.max_iterations, &mut eval, &mut lu);
         *hints = pair.hints();
         match solved {
             Ok(c) => {
+                if let Some(l) = linear.as_deref_mut() {
+                    Linearisation::store(l, &pair, pose, &c, &eval, &lu);
+                }
                 self.accept_into(&pair, side, segment, &c, &eval, false, found);
                 c.iterations
             }
             Err(f) => {
                 *found = None;
+                if let Some(l) = linear {
+                    *l = None;
+                }
                 f.iterations
             }
         }
@@ -234,8 +256,9 @@ impl WheelsetContactModel {
         let found = search::search(&pair, &self.slopes[side_index(side)], s_rail0);
         let mut out: Vec<Candidate> = Vec::new();
         let mut eval = PairEval::default();
+        let mut lu = Lu4::ZERO;
         for &x0 in &found.starts {
-            match newton::solve(&pair, x0, max_iterations, &mut eval) {
+            match newton::solve(&pair, x0, max_iterations, &mut eval, &mut lu) {
                 Ok(c) => {
                     any_converged = true;
                     total_iterations += c.iterations;

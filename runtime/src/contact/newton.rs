@@ -42,8 +42,11 @@ fn merit(e: &PairEval) -> f64 {
 }
 
 /// Solve from `x0` with at most `max_iterations` Newton steps, evaluating
-/// into `e` (one storage for every evaluation, nothing copied): on
-/// convergence it holds the evaluation at the returned `x`. A trial point
+/// into `e` and factoring into `lu` (one storage for every evaluation and
+/// every factorisation, nothing copied): on convergence `e` holds the
+/// evaluation at the returned `x` and `lu` the factors of the last Newton
+/// step's Jacobian — at `x`, or at the iterate before when the converging
+/// step was taken (within [`STEP_TOL`] of `x`). A trial point
 /// of the line search overwrites the current evaluation, whose Jacobian
 /// has been used by then; only its residual is kept aside, for the
 /// failure's report.
@@ -52,6 +55,7 @@ pub(crate) fn solve(
     x0: Vector4<f64>,
     max_iterations: u32,
     e: &mut PairEval,
+    lu: &mut lu4::Lu4,
 ) -> Result<Converged, Failed> {
     let fail = |x, iterations, residual| Failed {
         x,
@@ -63,7 +67,7 @@ pub(crate) fn solve(
         return Err(fail(x, 0, f64::INFINITY));
     }
     for it in 0..max_iterations {
-        let Some(step) = lu4::solve(&e.jacobian, &(-e.residual)) else {
+        let Some(step) = lu.factor_solve(&e.jacobian, &(-e.residual)) else {
             return Err(fail(x, it, e.residual.amax()));
         };
         let scale = (0..4).fold(1.0_f64, |s, k| {

@@ -8,6 +8,7 @@ use nalgebra::Vector3;
 use super::candidate::Candidate;
 use super::geometry::{PieceHints, SurfaceParams};
 use super::model::{WheelsetContactModel, same_contact};
+use super::predictor::Linearisation;
 use super::{ContactError, WheelsetPose};
 use crate::geometry::profile::{MAX_SEGMENTS, Zone};
 use crate::geometry::track::{Side, TrackTables};
@@ -323,6 +324,10 @@ pub struct ContactSolver {
     pub options: ContactOptions,
     /// The patches of the last solve, by slot.
     warm: [[Option<Warm>; MAX_SEGMENTS]; 2],
+    /// The last solve's linearisation of each slot's patch when it was
+    /// followed (the next start, docs/reference/06-contact-detection.md
+    /// §6.2); kept apart from `warm` so that it is updated in place.
+    linear: [[Option<Linearisation>; MAX_SEGMENTS]; 2],
     /// Each piece's last search, by piece.
     searched: [[Option<Searched>; MAX_SEGMENTS]; 2],
     pub stats: SolverStats,
@@ -336,6 +341,7 @@ impl ContactSolver {
         Self {
             options,
             warm: Default::default(),
+            linear: Default::default(),
             searched: Default::default(),
             stats: SolverStats::default(),
             scratch: Vec::with_capacity(4 * MAX_SEGMENTS),
@@ -345,6 +351,7 @@ impl ContactSolver {
     /// Forget the previous solutions (the next solve starts cold).
     pub fn reset(&mut self) {
         self.warm = Default::default();
+        self.linear = Default::default();
         self.searched = Default::default();
     }
 
@@ -445,6 +452,7 @@ impl ContactSolver {
                         w.segment,
                         guess,
                         &mut hints[slot],
+                        Some(&mut self.linear[i][slot]),
                         &self.options,
                         &mut c,
                     );
@@ -519,9 +527,13 @@ impl ContactSolver {
                 }
                 let Some(n) = assigned[k] else {
                     self.warm[i][k] = None;
+                    self.linear[i][k] = None;
                     continue;
                 };
                 let (followed, c) = &found[n];
+                if followed.is_none() {
+                    self.linear[i][k] = None;
+                }
                 if c.method == super::SolveMethod::Minimisation {
                     self.stats.minimisations += 1;
                 }

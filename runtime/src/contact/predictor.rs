@@ -1,0 +1,140 @@
+//! The start of a warm solve from the last solve of the same patch: the
+//! contact equations linearised at its solution and moved to the new pose
+//! (docs/reference/06-contact-detection.md §6.2).
+//!
+//! At a converged solve x₀ (pose P₀) the equations F(x; P) = 0 of
+//! [`super::geometry`] hold. For the next pose P₁ one Newton step from
+//! g = x₀ + Δs·e_s (the rail arc length moved with the wheelset, Δs its
+//! change) with the last Jacobian J₀ (its LU factors, kept from the
+//! solve's last step) gives the start
+//!
+//!   x = g − J₀⁻¹ F(g; P₁),
+//!
+//! first-order exact in the pose change: the travel, the lateral and
+//! vertical motion and the rotations of the wheelset are all in F(g; P₁).
+//! It costs no profile, table or trigonometric lookup:
+//! * the rail's terms are affine in s_r within one interval of its table
+//!   (the table interpolates linearly, [`crate::geometry::track`]), so
+//!   r_r(g) = r_r(x₀) + Δs ∂r_r/∂s_r and N(g) = N(x₀) + Δs ∂N/∂s_r are
+//!   exact there (beyond it, a kink of the rail the next solve corrects);
+//! * the wheel's terms depend on P only through its frame: the vectors
+//!   are kept in the axle's frame (body coordinates) and turned by P₁.
+//!
+//! Its error is second order in the change of (u_r, s_w, u_w) (and in the
+//! Jacobian's change between poses times that change), where the trend of
+//! the last two solves (the fallback, [`super::solver`]) is first order in
+//! the stages' departures from a smooth path: in a run the solve then
+//! usually converges at its first evaluation (the accept test is
+//! unchanged: the Newton step at an evaluated point below the tolerances).
+
+use nalgebra::{Matrix3, Vector3, Vector4};
+
+use super::WheelsetPose;
+use super::geometry::{Pair, PairEval};
+use super::lu4::Lu4;
+use super::newton::Converged;
+
+/// Largest correction of (s_r, u_r, s_w, u_w) (m, m, rad, m) the predictor
+/// may make: beyond it the linearisation is not trusted (a jump of the
+/// pose, a patch moving across a profile's kink) and the plain start g is
+/// used.
+const MAX_CORRECTION: [f64; 4] = [0.01, 0.002, 0.02, 0.002];
+
+/// The contact equations of one patch linearised at a converged solve.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Linearisation {
+    /// The solution (s_r, u_r, s_w, u_w) (m, m, rad, m).
+    x: Vector4<f64>,
+    /// The rail's point r_r and ∂r_r/∂s_r there (global; m, –).
+    rail_point: Vector3<f64>,
+    rail_point_s: Vector3<f64>,
+    /// The rail's (unnormalised) normal N = b − f_r′ n and ∂N/∂s_r (global;
+    /// –, 1/m).
+    rail_normal: Vector3<f64>,
+    rail_normal_s: Vector3<f64>,
+    /// The wheel's point relative to the wheelset's centre and its two
+    /// tangents t1, t2, in the axle's frame (m, –, –).
+    wheel_point_body: Vector3<f64>,
+    t1_body: Vector3<f64>,
+    t2_body: Vector3<f64>,
+    /// The wheelset's centre and axle frame at the solve (global; m, –):
+    /// at the same pose the next start is the solution itself, so a
+    /// solve repeated at one state gives the same bits.
+    pose_position: Vector3<f64>,
+    pose_frame: Matrix3<f64>,
+    /// The LU factors of ∂F/∂x at the solution (of the solve's last
+    /// Newton step).
+    lu: Lu4,
+}
+
+impl Linearisation {
+    /// Store into `slot` the linearisation at the solution `c`, where
+    /// `pair` was evaluated into `e`, with `lu` the factors of the solve's
+    /// last Newton step ([`super::newton::solve`]).
+    pub(crate) fn store(
+        slot: &mut Option<Self>,
+        pair: &Pair<'_>,
+        pose: &WheelsetPose,
+        c: &Converged,
+        e: &PairEval,
+        lu: &Lu4,
+    ) {
+        let x = &c.x;
+        let sg = pair.sigma;
+        let (ss, cs) = e.wheel_angle_sin_cos;
+        let f_w = e.wheel_profile.z_m - pair.wheel.nominal_radius_m();
+        let f_w1 = sg * e.wheel_profile.dz;
+        let f_r1 = sg * e.rail_profile.dz;
+        // Written field by field into the slot (no temporary of a few
+        // hundred bytes copied at every solve).
+        let l = slot.get_or_insert_with(|| Self {
+            x: Vector4::zeros(),
+            rail_point: Vector3::zeros(),
+            rail_point_s: Vector3::zeros(),
+            rail_normal: Vector3::zeros(),
+            rail_normal_s: Vector3::zeros(),
+            wheel_point_body: Vector3::zeros(),
+            t1_body: Vector3::zeros(),
+            t2_body: Vector3::zeros(),
+            pose_position: Vector3::zeros(),
+            pose_frame: Matrix3::zeros(),
+            lu: *lu,
+        });
+        l.x = *x;
+        l.rail_point = e.rail_point;
+        l.rail_point_s = e.rail_ds;
+        l.rail_normal = e.rail_normal;
+        l.rail_normal_s = e.rail_d.b - e.rail_d.n * f_r1;
+        l.wheel_point_body = Vector3::new(-f_w * ss, pair.h_m + x[3], f_w * cs);
+        l.t1_body = Vector3::new(cs, 0.0, ss);
+        l.t2_body = Vector3::new(-f_w1 * ss, 1.0, f_w1 * cs);
+        l.pose_position = pose.position;
+        l.pose_frame = pose.frame;
+        l.lu = *lu;
+    }
+
+    /// The start for the wheelset at `pose` with the rail arc length moved
+    /// to `s_rail_m` (see the module docs): the solution itself at the
+    /// same pose and arc length; `None` when the correction is not finite
+    /// or beyond [`MAX_CORRECTION`] (start from g instead).
+    pub(crate) fn start(&self, pose: &WheelsetPose, s_rail_m: f64) -> Option<Vector4<f64>> {
+        let ds = s_rail_m - self.x[0];
+        if ds == 0.0 && pose.position == self.pose_position && pose.frame == self.pose_frame {
+            return Some(self.x);
+        }
+        let a = &pose.frame;
+        let t1 = a * self.t1_body;
+        let t2 = a * self.t2_body;
+        let d =
+            pose.position + a * self.wheel_point_body - (self.rail_point + self.rail_point_s * ds);
+        let big_n = self.rail_normal + self.rail_normal_s * ds;
+        let f = Vector4::new(big_n.dot(&t1), big_n.dot(&t2), d.dot(&t1), d.dot(&t2));
+        let dx = self.lu.solve(&(-f))?;
+        if !(0..4).all(|k| dx[k].abs() <= MAX_CORRECTION[k]) {
+            return None;
+        }
+        let mut g = self.x;
+        g[0] = s_rail_m;
+        Some(g + dx)
+    }
+}
