@@ -2,7 +2,7 @@
 //! previous step's surface parameters), the same solve as time stepping
 //! makes it (the patch followed from its solve at the previous pose: the
 //! start from the predictor, the lookups from the last pieces), a whole
-//! wheelset step (both wheels,
+//! wheelset step (alternating between two poses, and along a smooth path) (both wheels,
 //! time stepping: patches followed by warm start), a cold solve (coarse
 //! search + Newton) and a quasi-static wheelset solve (every piece searched
 //! afresh), for S1002 on UIC60 and the ML95-like wheel on UIC60 1:20 (the
@@ -107,6 +107,30 @@ fn bench(c: &mut Criterion) {
                 flip = !flip;
                 let p = if flip { &pose } else { &pose_b };
                 step_solver.solve(&m, &track, black_box(p)).expect("solves")
+            })
+        });
+        // Time stepping along a smooth path (a lateral sine of 1 mm
+        // amplitude and 12.6 m wavelength, 2 cm per solve: at most 10 µm
+        // sideways per solve, as the alternating step above), which no
+        // solve repeats: 628 poses, one wavelength, then round again.
+        let path_track = wheelsets::straight_track_for(&m, 40.0);
+        let path: Vec<WheelsetPose> = (0..628)
+            .map(|k| {
+                let s = 10.0 + 0.02 * k as f64;
+                let y = 0.002 + 0.001 * (2.0 * std::f64::consts::PI * (s - 10.0) / 12.56).sin();
+                WheelsetPose::on_track(&path_track, s, y, st.height_m, 0.001, st.roll_rad)
+                    .expect("pose")
+            })
+            .collect();
+        let mut path_solver = solver.clone();
+        path_solver.options.reuse_clear_pieces = true;
+        let mut at = 0;
+        c.bench_function(&format!("contact_wheelset_path_tread/{name}"), |b| {
+            b.iter(|| {
+                at = (at + 1) % path.len();
+                path_solver
+                    .solve(&m, &path_track, black_box(&path[at]))
+                    .expect("solves")
             })
         });
         // Quasi-static (the default options): every piece searched afresh.

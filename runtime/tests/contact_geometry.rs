@@ -436,9 +436,11 @@ fn non_convergence_is_an_error_with_the_state() {
 /// wheelset alternates between two poses 2 cm and 10 µm apart (a step at
 /// 20 m/s), 1 mrad yawed, on each benchmark pair:
 /// * the predicted start is within the tolerance on ML95-like/UIC60 1:20
-///   (one evaluation: `iterations` 1) and a Newton step closer than the
-///   start from the last parameters on S1002/UIC60 (2 evaluations, 3
-///   from the parameters alone);
+///   (one evaluation: `iterations` 1); on S1002/UIC60, whose equations
+///   are less linear, the first move's start is a Newton step closer than
+///   the start from the last parameters (2 evaluations, 3 from the
+///   parameters alone), and with the last move's second-order miss added
+///   every later start is within the tolerance (1 evaluation);
 /// * every followed solution is the solve from the parameters alone to
 ///   within 2 nm (both converge to 1 nm);
 /// * a solve repeated at the same pose repeats its solution bit for bit.
@@ -480,7 +482,8 @@ fn a_followed_patch_starts_from_its_linearisation_at_the_new_pose() {
                 .solve(&m, &track, pose, &options)
                 .expect("solves")
                 .expect("followed");
-            assert_eq!(c.iterations, evaluations, "{name}: solve {k}");
+            let expected = if k == 0 { evaluations } else { 1 };
+            assert_eq!(c.iterations, expected, "{name}: solve {k}");
             let plain = m
                 .solve_pair(
                     &track,

@@ -6,7 +6,7 @@ use nalgebra::Vector4;
 use super::candidate::{Candidate, SolveMethod, from_eval};
 use super::geometry::{Pair, PairEval, PieceHints, SurfaceParams};
 use super::lu4::Lu4;
-use super::predictor::Linearisation;
+use super::predictor::{Linearisation, Start};
 use super::search::RailSlopes;
 use super::{ContactError, ContactOptions, WheelsetPose, newton, search};
 use crate::geometry::profile::{
@@ -204,16 +204,20 @@ impl WheelsetContactModel {
         pair.set_hints(*hints);
         let start = linear
             .as_deref()
-            .and_then(|l| l.as_ref()?.start(pose, guess.s_rail_m))
-            .unwrap_or_else(|| guess.to_vector());
+            .and_then(|l| l.as_ref().map(|l| l.start(pose, guess.s_rail_m)))
+            .unwrap_or(Start::Guess);
+        let x0 = match start {
+            Start::Guess => guess.to_vector(),
+            Start::Same(x) | Start::Predicted { x, .. } => x,
+        };
         let mut eval = PairEval::default();
         let mut lu = Lu4::ZERO;
-        let solved = newton::solve(&pair, start, options.max_iterations, &mut eval, &mut lu);
+        let solved = newton::solve(&pair, x0, options.max_iterations, &mut eval, &mut lu);
         *hints = pair.hints();
         match solved {
             Ok(c) => {
                 if let Some(l) = linear.as_deref_mut() {
-                    Linearisation::store(l, &pair, pose, &c, &eval, &lu);
+                    Linearisation::store(l, &pair, pose, &c, &eval, &lu, &start);
                 }
                 self.accept_into(&pair, side, segment, &c, &eval, false, found);
                 c.iterations
