@@ -5,7 +5,9 @@
 //! may lie ahead of or behind the axle (lead/lag contact, s_w ≠ 0).
 //!
 //! Layers: `pose` (where the wheelset is) → `geometry` (the equations)
-//! → `newton` → `search` (cold start) → [`WheelsetContactModel`] (profiles
+//! → `newton` → `search` (cold start) and `predictor` (warm start: the
+//! last solve linearised and moved to the new pose; [`FollowedPatch`]
+//! follows one patch with it) → [`WheelsetContactModel`] (profiles
 //! of one wheelset, pair solves) → [`ContactSolver`] (a step: both wheels,
 //! zones, warm start, flange rule) → [`quasi_static`] (wheelset settled
 //! under load, flangeway clearance); [`nadal`]: the flange-climbing limit.
