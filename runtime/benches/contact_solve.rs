@@ -11,11 +11,8 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use runtime::contact::quasi_static::{Support, settle};
-use runtime::contact::{
-    ContactOptions, ContactSolver, FlangeSearch, FollowedPatch, SurfaceParams, WheelsetPose,
-};
-use runtime::fixtures::wheelsets;
+use runtime::contact::{ContactOptions, FollowedPatch, SurfaceParams, WheelsetPose};
+use runtime::fixtures::wheelsets::{self, SettledTread};
 use runtime::geometry::track::Side;
 
 fn bench(c: &mut Criterion) {
@@ -29,23 +26,12 @@ fn bench(c: &mut Criterion) {
             wheelsets::ml95_uic60_1in20().expect("ML95-like/UIC60"),
         ),
     ] {
-        let track = wheelsets::straight_track_for(&m, 20.0);
-        let mut solver = ContactSolver::new(ContactOptions {
-            flange: FlangeSearch::Off,
-            ..Default::default()
-        });
-        let st =
-            settle(&m, &track, 10.0, 0.002, 0.001, Support::Rigid, &mut solver).expect("settled");
+        let set_up = SettledTread::new(&m).expect("settled");
+        let (track, solver) = (&set_up.track, &set_up.solver);
         let options = ContactOptions::default();
-        let tread = st
-            .contacts
-            .side(Side::Left)
-            .next()
-            .expect("tread contact")
-            .params;
+        let tread = set_up.left_tread().expect("tread contact").params;
         // The next step: the wheelset 2 cm further on, slightly moved.
-        let pose = WheelsetPose::on_track(&track, 10.02, 0.00201, st.height_m, 0.001, st.roll_rad)
-            .expect("pose");
+        let pose = set_up.pose(track, 10.02, 0.00201).expect("pose");
         let guess = SurfaceParams {
             s_rail_m: tread.s_rail_m + 0.02,
             ..tread
@@ -53,7 +39,7 @@ fn bench(c: &mut Criterion) {
         c.bench_function(&format!("contact_warm_tread_solve/{name}"), |b| {
             b.iter(|| {
                 m.solve_pair(
-                    &track,
+                    track,
                     black_box(&pose),
                     Side::Left,
                     0,
@@ -66,16 +52,14 @@ fn bench(c: &mut Criterion) {
         // The same move as time stepping makes it: the patch followed from
         // its solve at the other pose (the two alternate: 2 cm on, 10 µm
         // sideways), so every solve is a warm one from the previous pose.
-        let pose_prev =
-            WheelsetPose::on_track(&track, 10.0, 0.002, st.height_m, 0.001, st.roll_rad)
-                .expect("pose");
+        let pose_prev = set_up.pose(track, 10.0, 0.002).expect("pose");
         let c0 = m
-            .solve_pair(&track, &pose_prev, Side::Left, 0, Some(tread), &options)
+            .solve_pair(track, &pose_prev, Side::Left, 0, Some(tread), &options)
             .expect("solves")
             .expect("tread contact");
-        let mut patch = FollowedPatch::new(&track, &pose_prev, &c0).expect("on the track");
+        let mut patch = FollowedPatch::new(track, &pose_prev, &c0).expect("on the track");
         patch
-            .solve(&m, &track, &pose_prev, &options)
+            .solve(&m, track, &pose_prev, &options)
             .expect("solves")
             .expect("followed");
         let mut flip = false;
@@ -84,14 +68,14 @@ fn bench(c: &mut Criterion) {
                 flip = !flip;
                 let p = if flip { &pose } else { &pose_prev };
                 patch
-                    .solve(&m, &track, black_box(p), &options)
+                    .solve(&m, track, black_box(p), &options)
                     .expect("solves")
                     .expect("followed")
             })
         });
         c.bench_function(&format!("contact_cold_tread_solve/{name}"), |b| {
             b.iter(|| {
-                m.solve_pair(&track, black_box(&pose), Side::Left, 0, None, &options)
+                m.solve_pair(track, black_box(&pose), Side::Left, 0, None, &options)
                     .expect("solves")
             })
         });
@@ -99,14 +83,13 @@ fn bench(c: &mut Criterion) {
         // by warm start, pieces searched again only after the wheel has moved.
         let mut step_solver = solver.clone();
         step_solver.options.reuse_clear_pieces = true;
-        let pose_b = WheelsetPose::on_track(&track, 10.0, 0.002, st.height_m, 0.001, st.roll_rad)
-            .expect("pose");
+        let pose_b = set_up.pose(track, 10.0, 0.002).expect("pose");
         let mut flip = false;
         c.bench_function(&format!("contact_wheelset_step_tread/{name}"), |b| {
             b.iter(|| {
                 flip = !flip;
                 let p = if flip { &pose } else { &pose_b };
-                step_solver.solve(&m, &track, black_box(p)).expect("solves")
+                step_solver.solve(&m, track, black_box(p)).expect("solves")
             })
         });
         // Time stepping along a smooth path (a lateral sine of 1 mm
@@ -118,8 +101,7 @@ fn bench(c: &mut Criterion) {
             .map(|k| {
                 let s = 10.0 + 0.02 * k as f64;
                 let y = 0.002 + 0.001 * (2.0 * std::f64::consts::PI * (s - 10.0) / 12.56).sin();
-                WheelsetPose::on_track(&path_track, s, y, st.height_m, 0.001, st.roll_rad)
-                    .expect("pose")
+                set_up.pose(&path_track, s, y).expect("pose")
             })
             .collect();
         let mut path_solver = solver.clone();
@@ -140,7 +122,7 @@ fn bench(c: &mut Criterion) {
             |b| {
                 b.iter(|| {
                     static_solver
-                        .solve(&m, &track, black_box(&pose))
+                        .solve(&m, track, black_box(&pose))
                         .expect("solves")
                 })
             },

@@ -10,7 +10,9 @@ use runtime::contact::{
     ContactError, ContactOptions, ContactSolver, FlangeSearch, FollowedPatch, SolveMethod,
     SurfaceParams, WheelsetContactModel, WheelsetPose,
 };
-use runtime::fixtures::wheelsets::{self, flange_solver, s1002_uic60, straight_track_for};
+use runtime::fixtures::wheelsets::{
+    self, SettledTread, flange_solver, s1002_uic60, straight_track_for,
+};
 use runtime::geometry::profile::{RailProfile, RailProfileOptions, Zone};
 use runtime::geometry::track::Side;
 
@@ -454,39 +456,28 @@ fn a_followed_patch_starts_from_its_linearisation_at_the_new_pose() {
             1,
         ),
     ] {
-        let track = straight_track_for(&m, 20.0);
-        let mut solver = ContactSolver::new(ContactOptions {
-            flange: FlangeSearch::Off,
-            ..Default::default()
-        });
-        let st =
-            settle(&m, &track, 10.0, 0.002, 0.001, Support::Rigid, &mut solver).expect("settled");
+        let set_up = SettledTread::new(&m).expect("settled");
+        let track = &set_up.track;
         let options = ContactOptions::default();
-        let at = |s: f64, y: f64| {
-            WheelsetPose::on_track(&track, s, y, st.height_m, 0.001, st.roll_rad).expect("pose")
-        };
+        let at = |s: f64, y: f64| set_up.pose(track, s, y).expect("pose");
         let (a, b) = (at(10.0, 0.002), at(10.02, 0.00201));
-        let tread = *st
-            .contacts
-            .side(Side::Left)
-            .next()
-            .expect("a tread contact");
-        let mut patch = FollowedPatch::new(&track, &a, &tread).expect("on the track");
+        let tread = set_up.left_tread().expect("a tread contact");
+        let mut patch = FollowedPatch::new(track, &a, &tread).expect("on the track");
         let mut last = patch
-            .solve(&m, &track, &a, &options)
+            .solve(&m, track, &a, &options)
             .expect("solves")
             .expect("followed at the settled pose");
         for k in 0..6 {
             let (pose, from) = if k % 2 == 0 { (&b, &a) } else { (&a, &b) };
             let c = patch
-                .solve(&m, &track, pose, &options)
+                .solve(&m, track, pose, &options)
                 .expect("solves")
                 .expect("followed");
             let expected = if k == 0 { evaluations } else { 1 };
             assert_eq!(c.iterations, expected, "{name}: solve {k}");
             let plain = m
                 .solve_pair(
-                    &track,
+                    track,
                     pose,
                     Side::Left,
                     c.segment,
@@ -511,7 +502,7 @@ fn a_followed_patch_starts_from_its_linearisation_at_the_new_pose() {
             assert!(d < 2e-9, "{name}: solve {k} {d:e} m from the plain solve");
             // The same pose again: the same bits.
             let again = patch
-                .solve(&m, &track, pose, &options)
+                .solve(&m, track, pose, &options)
                 .expect("solves")
                 .expect("followed");
             assert_eq!(again.params, c.params, "{name}: repeated at one pose");
