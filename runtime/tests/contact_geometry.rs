@@ -511,3 +511,54 @@ fn a_followed_patch_starts_from_its_linearisation_at_the_new_pose() {
         }
     }
 }
+
+/// The predictor at the extremes: a wheelset that jumps in one solve
+/// (4 mm sideways and 20 mrad of yaw, beyond any stage of a run) and back,
+/// under time stepping's solver (patches followed, a lost one searched
+/// again): at every pose the contacts are those a fresh search finds, to
+/// the tolerance, on both benchmark pairs.
+#[test]
+fn time_stepping_survives_a_jump_of_the_wheelset() {
+    for (name, m) in [
+        ("s1002", s1002_uic60().expect("S1002/UIC60")),
+        (
+            "ml95",
+            wheelsets::ml95_uic60_1in20().expect("ML95-like/UIC60"),
+        ),
+    ] {
+        let set_up = SettledTread::new(&m).expect("settled");
+        let track = &set_up.track;
+        let (h, roll) = (set_up.settled.height_m, set_up.settled.roll_rad);
+        let at = |s: f64, y: f64, yaw: f64| {
+            WheelsetPose::on_track(track, s, y, h, yaw, roll).expect("pose")
+        };
+        let mut stepping = set_up.solver.clone();
+        stepping.options.reuse_clear_pieces = true;
+        let poses = [
+            at(10.0, 0.002, 0.001),
+            at(10.02, 0.00201, 0.001),
+            at(10.04, -0.002, 0.021),
+            at(10.06, 0.002, 0.001),
+            at(10.08, 0.00201, 0.001),
+        ];
+        for (k, pose) in poses.iter().enumerate() {
+            let stepped = stepping.solve(&m, track, pose).expect("solves");
+            let fresh = set_up
+                .solver
+                .clone()
+                .solve(&m, track, pose)
+                .expect("solves");
+            for side in Side::BOTH {
+                let a: Vec<_> = stepped.side(side).collect();
+                let b: Vec<_> = fresh.side(side).collect();
+                assert_eq!(a.len(), b.len(), "{name}, pose {k}, {side:?}: patches");
+                for (p, q) in a.iter().zip(&b) {
+                    let d = (p.params.u_rail_m - q.params.u_rail_m)
+                        .abs()
+                        .max((p.params.u_wheel_m - q.params.u_wheel_m).abs());
+                    assert!(d < 2e-9, "{name}, pose {k}, {side:?}: {d:e} m apart");
+                }
+            }
+        }
+    }
+}
