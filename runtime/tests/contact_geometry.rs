@@ -1,7 +1,9 @@
 //! Reference checks of the online contact detection (issue 3): closed-form
 //! cone-on-crown geometry, symmetry, S1002 on UIC60 (jump to the flange),
-//! Newton's convergence warm and cold, lead/lag flange contact, and the
-//! error carrying the state. Tolerances are stated at each check.
+//! Newton's convergence warm and cold, lead/lag flange contact, the error
+//! carrying the state, and time stepping's predictor (issue 16: one
+//! evaluation per warm solve, a jump of the wheelset survived).
+//! Tolerances are stated at each check.
 
 use std::path::Path;
 
