@@ -8,7 +8,8 @@
 //! updates `a_rk ← (−a_ik)·l_r + a_rk`, unit lower then upper triangular
 //! substitution), so its results are bit-identical to it (checked by the
 //! tests below); it only avoids the generic code's permutation sequence,
-//! views and loops over dynamic ranges. It works on the matrix's own
+//! views and loops over dynamic ranges. The factors are kept ([`Lu4`]) to
+//! solve again with another right-hand side. It works on the matrix's own
 //! column-major storage (no transposed copy): the multipliers, the column
 //! updates and both substitutions then read and write whole columns.
 
@@ -185,7 +186,8 @@ mod tests {
     /// Random matrices with entries over six decades (every pivoting order
     /// occurs), matrices with zero and repeated columns (singular), ties in
     /// the pivot column, and the contact Jacobian's pattern (a structural
-    /// zero at (0, 3)): the same bits as nalgebra's LU solve.
+    /// zero at (0, 3)): the same bits as nalgebra's LU solve, from the
+    /// combined factor-and-solve and from the kept factors.
     #[test]
     fn bit_identical_to_nalgebra_lu() {
         let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
@@ -214,6 +216,13 @@ mod tests {
                 checked_singular += 1;
             }
             assert!(same_bits(solve(&a, &b), expect), "{a} {b}");
+            // The kept factors solve another right-hand side as nalgebra
+            // does (the predictor's use).
+            let mut lu = Lu4::ZERO;
+            if lu.factor_solve(&a, &b).is_some() {
+                let c = Vector4::from_fn(|_, _| rng.next());
+                assert!(same_bits(lu.solve(&c), a.lu().solve(&c)), "{a} {c}");
+            }
         }
         assert!(checked_singular > 1000, "{checked_singular}");
     }

@@ -41,7 +41,7 @@
 //! tolerances), and in a run most solves now converge at their first
 //! evaluation.
 
-use nalgebra::{Matrix3, Vector3, Vector4};
+use nalgebra::{Vector3, Vector4};
 
 use super::WheelsetPose;
 use super::geometry::{Pair, PairEval};
@@ -50,8 +50,8 @@ use super::newton::Converged;
 
 /// Largest correction of (s_r, u_r, s_w, u_w) (m, m, rad, m) the predictor
 /// may make: beyond it the linearisation is not trusted (a jump of the
-/// pose, a patch moving across a profile's kink) and the plain start g is
-/// used.
+/// pose, a patch moving across a profile's kink) and the caller's guess
+/// is used (time stepping's: g plus the trend of the last two solves).
 const MAX_CORRECTION: [f64; 4] = [0.01, 0.002, 0.02, 0.002];
 
 /// The contact equations of one patch linearised at a converged solve.
@@ -71,17 +71,17 @@ pub(crate) struct Linearisation {
     wheel_point_body: Vector3<f64>,
     t1_body: Vector3<f64>,
     t2_body: Vector3<f64>,
-    /// The wheelset's centre and axle frame at the solve (global; m, –):
-    /// at the same pose the next start is the solution itself, so a
-    /// solve repeated at one state gives the same bits.
-    pose_position: Vector3<f64>,
-    pose_frame: Matrix3<f64>,
+    /// The wheelset's pose at the solve: at the same pose the next start
+    /// is the solution itself, so a solve repeated at one state gives the
+    /// same bits.
+    pose: WheelsetPose,
     /// The LU factors of ∂F/∂x at the solution (of the solve's last
     /// Newton step).
     lu: Lu4,
     /// The last solve's miss — its solution minus its predicted start's
-    /// first-order part — and the predictor's correction then (see [`Self::start`]); `None`
-    /// when that solve was not started by the predictor.
+    /// first-order part — and the predictor's correction then (see
+    /// [`Self::start`]); `None` when that solve was not started by the
+    /// predictor.
     miss: Option<(Vector4<f64>, Vector4<f64>)>,
 }
 
@@ -133,8 +133,7 @@ impl Linearisation {
             wheel_point_body: Vector3::zeros(),
             t1_body: Vector3::zeros(),
             t2_body: Vector3::zeros(),
-            pose_position: Vector3::zeros(),
-            pose_frame: Matrix3::zeros(),
+            pose: *pose,
             lu: *lu,
             miss: None,
         });
@@ -146,8 +145,7 @@ impl Linearisation {
         l.wheel_point_body = Vector3::new(-f_w * ss, pair.h_m + x[3], f_w * cs);
         l.t1_body = Vector3::new(cs, 0.0, ss);
         l.t2_body = Vector3::new(-f_w1 * ss, 1.0, f_w1 * cs);
-        l.pose_position = pose.position;
-        l.pose_frame = pose.frame;
+        l.pose = *pose;
         l.lu = *lu;
         l.miss = match *start {
             Start::Guess => None,
@@ -169,7 +167,7 @@ impl Linearisation {
 
     fn predict(&self, pose: &WheelsetPose, s_rail_m: f64) -> Option<Start> {
         let ds = s_rail_m - self.x[0];
-        if ds == 0.0 && pose.position == self.pose_position && pose.frame == self.pose_frame {
+        if ds == 0.0 && *pose == self.pose {
             return Some(Start::Same(self.x));
         }
         let a = &pose.frame;
