@@ -71,6 +71,7 @@ fn bench(c: &mut Criterion) {
                     .solve(&m, track, black_box(p), &options)
                     .expect("solves")
                     .expect("followed")
+                    .params
             })
         });
         c.bench_function(&format!("contact_cold_tread_solve/{name}"), |b| {

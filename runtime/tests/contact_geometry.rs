@@ -468,12 +468,14 @@ fn a_followed_patch_starts_from_its_linearisation_at_the_new_pose() {
         let mut last = patch
             .solve(&m, track, &a, &options)
             .expect("solves")
+            .copied()
             .expect("followed at the settled pose");
         for k in 0..6 {
             let (pose, from) = if k % 2 == 0 { (&b, &a) } else { (&a, &b) };
             let c = patch
                 .solve(&m, track, pose, &options)
                 .expect("solves")
+                .copied()
                 .expect("followed");
             let expected = if k == 0 { evaluations } else { 1 };
             assert_eq!(c.iterations, expected, "{name}: solve {k}");

@@ -29,6 +29,7 @@ use std::cell::Cell;
 use nalgebra::{Matrix4, Vector3, Vector4};
 
 use super::WheelsetPose;
+use super::small_angle;
 use crate::geometry::profile::{CurvePoint, PlacedRailProfile, ProfileCurve, WheelProfile};
 use crate::geometry::track::{RailPointDerivative, RailTable, Side, TrackError};
 
@@ -190,7 +191,7 @@ impl<'a> Pair<'a> {
     /// module docs, the same expression [`Self::eval`] uses.
     pub fn wheel_point_m(&self, s_w_rad: f64, u_w_m: f64) -> Vector3<f64> {
         let f_w = self.wheel_curve.at(self.sigma * u_w_m).z_m - self.wheel.nominal_radius_m();
-        let (ss, cs) = s_w_rad.sin_cos();
+        let (ss, cs) = small_angle::sin_cos(s_w_rad);
         self.pose.position + self.pose.frame * Vector3::new(-f_w * ss, self.h_m + u_w_m, f_w * cs)
     }
 
@@ -208,11 +209,12 @@ impl<'a> Pair<'a> {
     pub fn eval_into(&self, x: &Vector4<f64>, out: &mut PairEval) -> Result<(), TrackError> {
         let (s_r, u_r, s_w, u_w) = (x[0], x[1], x[2], x[3]);
         let sg = self.sigma;
-        // The calls first: `sin_cos` (a library call) and the profiles'
-        // spline lookups (a call when a hint misses), so that few values
-        // are live across them (none of the rail's and the vectors below
-        // is spilled to the stack around them); each value is the same.
-        let (ss, cs) = s_w.sin_cos();
+        // The calls first: `sin_cos` (a library call beyond the small
+        // angles, [`small_angle`]) and the profiles' spline lookups (a call
+        // when a hint misses), so that few values are live across them
+        // (none of the rail's and the vectors below is spilled to the stack
+        // around them); each value is the same.
+        let (ss, cs) = small_angle::sin_cos(s_w);
         let rp = self.rail.head().at_near(sg * u_r, &self.rail_piece);
         let wp = self.wheel_curve.at_near(sg * u_w, &self.wheel_piece);
         // Rail.

@@ -63,6 +63,7 @@ mod pose;
 mod predictor;
 pub mod quasi_static;
 mod search;
+mod small_angle;
 mod solver;
 pub mod table;
 

@@ -211,13 +211,20 @@ impl WheelsetContactModel {
             Start::Same(x) | Start::Predicted { x, .. } => x,
         };
         let mut eval = PairEval::default();
-        let mut lu = Lu4::ZERO;
-        let solved = newton::solve(&pair, x0, options.max_iterations, &mut eval, &mut lu);
+        // The solve factors into the linearisation's own storage when there
+        // is one (its factors have given the start and are replaced by the
+        // new ones in place: nothing is copied), else into a fresh one.
+        let mut fresh_lu = None;
+        let lu = match linear.as_deref_mut() {
+            Some(Some(l)) => l.lu_mut(),
+            _ => fresh_lu.insert(Lu4::ZERO),
+        };
+        let solved = newton::solve(&pair, x0, options.max_iterations, &mut eval, lu);
         *hints = pair.hints();
         match solved {
             Ok(c) => {
                 if let Some(l) = linear.as_deref_mut() {
-                    Linearisation::store(l, &pair, pose, &c, &eval, &lu, &start);
+                    Linearisation::store(l, &pair, pose, &c, &eval, fresh_lu.as_ref(), &start);
                 }
                 self.accept_into(&pair, side, segment, &c, &eval, false, found);
                 c.iterations

@@ -104,16 +104,24 @@ pub(crate) enum Start {
 }
 
 impl Linearisation {
+    /// The storage of the factors: a solve started from this linearisation
+    /// factors into it ([`super::newton::solve`]), replacing the factors
+    /// that gave its start.
+    pub(crate) fn lu_mut(&mut self) -> &mut Lu4 {
+        &mut self.lu
+    }
+
     /// Store into `slot` the linearisation at the solution `c`, where
-    /// `pair` was evaluated into `e`, with `lu` the factors of the solve's
-    /// last Newton step ([`super::newton::solve`]).
+    /// `pair` was evaluated into `e`, with the factors of the solve's last
+    /// Newton step ([`super::newton::solve`]) in `lu`, or already in the
+    /// slot's linearisation when `lu` is `None` ([`Self::lu_mut`]).
     pub(crate) fn store(
         slot: &mut Option<Self>,
         pair: &Pair<'_>,
         pose: &WheelsetPose,
         c: &Converged,
         e: &PairEval,
-        lu: &Lu4,
+        lu: Option<&Lu4>,
         start: &Start,
     ) {
         let x = &c.x;
@@ -134,7 +142,7 @@ impl Linearisation {
             t1_body: Vector3::zeros(),
             t2_body: Vector3::zeros(),
             pose: *pose,
-            lu: *lu,
+            lu: Lu4::ZERO,
             miss: None,
         });
         l.x = *x;
@@ -146,7 +154,9 @@ impl Linearisation {
         l.t1_body = Vector3::new(cs, 0.0, ss);
         l.t2_body = Vector3::new(-f_w1 * ss, 1.0, f_w1 * cs);
         l.pose = *pose;
-        l.lu = *lu;
+        if let Some(lu) = lu {
+            l.lu = *lu;
+        }
         l.miss = match *start {
             Start::Guess => None,
             // A repeat at one pose says nothing new about the miss.

@@ -207,6 +207,13 @@ impl CenterlineTable {
     /// Interval and fraction for `s_m`, or `OutOfRange`.
     #[inline]
     fn locate(&self, s_m: f64) -> Result<(usize, f64), TrackError> {
+        self.check_range(s_m)?;
+        Ok(self.grid.locate(s_m, |k| self.rows[k].s_m))
+    }
+
+    /// `OutOfRange` unless `s_m` lies on the table (within 1 nm).
+    #[inline]
+    fn check_range(&self, s_m: f64) -> Result<(), TrackError> {
         let (lo, hi) = self.range_m();
         if !within(s_m, lo, hi, 1e-9) {
             return Err(TrackError::OutOfRange {
@@ -217,7 +224,7 @@ impl CenterlineTable {
                 max_m: hi,
             });
         }
-        Ok(self.grid.locate(s_m, |k| self.rows[k].s_m))
+        Ok(())
     }
 
     /// Centreline point at track distance `s_m` (linear interpolation, O(1)).
@@ -250,6 +257,26 @@ impl CenterlineTable {
     #[inline]
     pub fn rail_l(&self, side: Side, s_m: f64) -> Result<f64, TrackError> {
         let (i, f) = self.locate(s_m)?;
+        Ok(lerp(
+            f,
+            self.rows[i].rail_l_m(side),
+            self.rows[i + 1].rail_l_m(side),
+        ))
+    }
+
+    /// [`Self::rail_l`] from the interval `hint` (a patch followed from
+    /// solve to solve moves little), leaving the interval used in it: the
+    /// same value, found without the grid formula while `s_m` stays in
+    /// the hinted interval ([`UniformGrid::locate_near`]).
+    #[inline]
+    pub(crate) fn rail_l_near(
+        &self,
+        side: Side,
+        s_m: f64,
+        hint: &std::cell::Cell<usize>,
+    ) -> Result<f64, TrackError> {
+        self.check_range(s_m)?;
+        let (i, f) = self.grid.locate_near(s_m, hint, |k| self.rows[k].s_m);
         Ok(lerp(
             f,
             self.rows[i].rail_l_m(side),
@@ -292,5 +319,61 @@ impl CenterlineTable {
         let (r0, r1) = (&self.rows[i], &self.rows[i + 1]);
         let (a, b) = (r0.rail_l_m(side), r1.rail_l_m(side));
         Ok(r0.s_m + (l_m - a) / (b - a) * (r1.s_m - r0.s_m))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Rows every 0.5 m; the rails' arc lengths not affine in s (as in a
+    /// curve's transition), so that a wrong interval would give another
+    /// value.
+    fn table() -> CenterlineTable {
+        let rows = (0..=20)
+            .map(|k| {
+                let s = 0.5 * k as f64;
+                CenterlineRow {
+                    s_m: s,
+                    position: [s, 0.0, 0.0],
+                    t: [1.0, 0.0, 0.0],
+                    n: [0.0, 1.0, 0.0],
+                    b: [0.0, 0.0, 1.0],
+                    l_left_m: s + 1e-3 * s * s,
+                    l_right_m: s - 1e-3 * s * s,
+                    ..Default::default()
+                }
+            })
+            .collect();
+        CenterlineTable::new(rows).expect("valid table")
+    }
+
+    /// From any hint (none, right, neighbouring, far, out of range) the
+    /// same bits as the plain look-up, and the hint left at the interval
+    /// used; off the table the same error.
+    #[test]
+    fn rail_l_from_a_hint_is_the_plain_lookup() {
+        let c = table();
+        for s in [0.0, 0.3, 0.5, 2.74, 7.5, 9.99, 10.0] {
+            for side in [Side::Left, Side::Right] {
+                let plain = c.rail_l(side, s).expect("on the table");
+                for h in [usize::MAX, 0, 5, 14, 15, 19, 20, 1000] {
+                    let hint = std::cell::Cell::new(h);
+                    let near = c.rail_l_near(side, s, &hint).expect("on the table");
+                    assert_eq!(near.to_bits(), plain.to_bits(), "s {s}, hint {h}");
+                    let i = hint.get();
+                    assert!(
+                        c.rows[i].s_m <= s && (s < c.rows[i + 1].s_m || i == 19),
+                        "s {s}: interval {i}"
+                    );
+                }
+            }
+        }
+        let hint = std::cell::Cell::new(3);
+        assert!(matches!(
+            c.rail_l_near(Side::Left, 10.5, &hint),
+            Err(TrackError::OutOfRange { .. })
+        ));
+        assert!(c.rail_l_near(Side::Left, f64::NAN, &hint).is_err());
     }
 }
