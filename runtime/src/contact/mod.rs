@@ -4,8 +4,8 @@
 //! tread and flange functions of the wheel separately — so the flange point
 //! may lie ahead of or behind the axle (lead/lag contact, s_w ≠ 0).
 //!
-//! Layers: `pose` (where the wheelset is) → `geometry` (the equations)
-//! → `newton` → `search` (cold start) and `predictor` (warm start: the
+//! Layers: `pose` (where the wheelset is) → `geometry` (the equations;
+//! `small_angle`: the wheel angle's sine and cosine) → `newton` → `search` (cold start) and `predictor` (warm start: the
 //! last solve linearised and moved to the new pose; [`FollowedPatch`]
 //! follows one patch with it) → [`WheelsetContactModel`] (profiles
 //! of one wheelset, pair solves) → [`ContactSolver`] (a step: both wheels,
