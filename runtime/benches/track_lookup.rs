@@ -4,7 +4,8 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use runtime::geometry::track::{CenterlineRow, CenterlineTable, RailRow, RailTable, Side};
+use runtime::fixtures::tracks::straight_centerline;
+use runtime::geometry::track::{CenterlineTable, RailRow, RailTable, Side};
 
 /// A 10 km rail on a 1000 m radius arc, rows every 0.1 m.
 fn arc_rail(step: f64, length: f64, radius: f64) -> RailTable {
@@ -26,23 +27,7 @@ fn arc_rail(step: f64, length: f64, radius: f64) -> RailTable {
 }
 
 fn centerline(step: f64, length: f64) -> CenterlineTable {
-    let n = (length / step) as usize;
-    let rows = (0..=n)
-        .map(|k| {
-            let s = k as f64 * step;
-            CenterlineRow {
-                s_m: s,
-                position: [s, 0.0, 0.0],
-                t: [1.0, 0.0, 0.0],
-                n: [0.0, 1.0, 0.0],
-                b: [0.0, 0.0, 1.0],
-                l_left_m: s,
-                l_right_m: s,
-                ..Default::default()
-            }
-        })
-        .collect();
-    CenterlineTable::new(rows).expect("valid table")
+    straight_centerline(step, (length / step) as usize, |s| (s, s))
 }
 
 fn bench(c: &mut Criterion) {

@@ -323,6 +323,7 @@ impl CenterlineTable {
 }
 
 #[cfg(test)]
+#[cfg(feature = "fixtures")] // the shared in-memory tables
 mod tests {
     use super::*;
 
@@ -330,22 +331,9 @@ mod tests {
     /// curve's transition), so that a wrong interval would give another
     /// value.
     fn table() -> CenterlineTable {
-        let rows = (0..=20)
-            .map(|k| {
-                let s = 0.5 * k as f64;
-                CenterlineRow {
-                    s_m: s,
-                    position: [s, 0.0, 0.0],
-                    t: [1.0, 0.0, 0.0],
-                    n: [0.0, 1.0, 0.0],
-                    b: [0.0, 0.0, 1.0],
-                    l_left_m: s + 1e-3 * s * s,
-                    l_right_m: s - 1e-3 * s * s,
-                    ..Default::default()
-                }
-            })
-            .collect();
-        CenterlineTable::new(rows).expect("valid table")
+        crate::fixtures::tracks::straight_centerline(0.5, 20, |s| {
+            (s + 1e-3 * s * s, s - 1e-3 * s * s)
+        })
     }
 
     /// From any hint (none, right, neighbouring, far, out of range) the
