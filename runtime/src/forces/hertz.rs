@@ -421,8 +421,31 @@ impl HertzShape {
     /// checked input).
     #[inline]
     pub fn semi_axes_m(&self, normal_force_n: f64, material: &Material) -> (f64, f64) {
+        self.semi_axes_for_scale(self.scale_m(normal_force_n, material))
+    }
+
+    /// Normal approach δ (m) of the two bodies under N (N):
+    /// δ = r [(1.5(1 − ν²)/E)² (A + B) N²]^(1/3) (docs/reference/07-contact-forces.md §7.1; for the sphere
+    /// it is Johnson's δ = a²/R, 1985 §4.2), computed as r (A + B) c² from
+    /// the semi-axes' scale c (the same quantity: c³ (A + B) = 1.5(1 −
+    /// ν²)N/E), so that [`HertzContact`] takes one cube root for both.
+    /// Hot path: inputs not checked (c² makes the sign of N irrelevant
+    /// here).
+    #[inline]
+    pub fn approach_m(&self, normal_force_n: f64, material: &Material) -> f64 {
+        self.approach_for_scale(self.scale_m(normal_force_n, material))
+    }
+
+    /// The semi-axes' scale c = [3N(1 − ν²)/(2E(A + B))]^(1/3) (m).
+    #[inline]
+    fn scale_m(&self, normal_force_n: f64, material: &Material) -> f64 {
         let sum = self.a_curv_1_m + self.b_curv_1_m;
-        let c_m = (1.5 * normal_force_n * material.compliance_1_pa() / sum).cbrt();
+        (1.5 * normal_force_n * material.compliance_1_pa() / sum).cbrt()
+    }
+
+    /// (a rolling, b lateral) (m) for the scale `c_m`: major m c, minor n c.
+    #[inline]
+    fn semi_axes_for_scale(&self, c_m: f64) -> (f64, f64) {
         let (major_m, minor_m) = (self.m_coef * c_m, self.n_coef * c_m);
         match self.major {
             MajorAxis::Rolling | MajorAxis::Circular => (major_m, minor_m),
@@ -430,15 +453,10 @@ impl HertzShape {
         }
     }
 
-    /// Normal approach δ (m) of the two bodies under N (N):
-    /// δ = r [(1.5(1 − ν²)/E)² (A + B) N²]^(1/3) (docs/reference/07-contact-forces.md §7.1; for the sphere
-    /// it is Johnson's δ = a²/R, 1985 §4.2). Hot path: inputs not checked
-    /// (N² makes the sign of N irrelevant here).
+    /// δ = r (A + B) c² (m) for the scale `c_m`.
     #[inline]
-    pub fn approach_m(&self, normal_force_n: f64, material: &Material) -> f64 {
-        let sum = self.a_curv_1_m + self.b_curv_1_m;
-        let k = 1.5 * material.compliance_1_pa() * normal_force_n;
-        self.r_coef * (k * k * sum).cbrt()
+    fn approach_for_scale(&self, c_m: f64) -> f64 {
+        self.r_coef * (self.a_curv_1_m + self.b_curv_1_m) * c_m * c_m
     }
 }
 
@@ -554,13 +572,14 @@ impl HertzContact {
         if !(normal_force_n.is_finite() && normal_force_n >= 0.0) {
             return Err(HertzError::InvalidNormalForce { normal_force_n });
         }
-        let (a_rolling_m, b_lateral_m) = shape.semi_axes_m(normal_force_n, material);
+        let c_m = shape.scale_m(normal_force_n, material);
+        let (a_rolling_m, b_lateral_m) = shape.semi_axes_for_scale(c_m);
         Ok(HertzContact {
             shape: *shape,
             normal_force_n,
             a_rolling_m,
             b_lateral_m,
-            approach_m: shape.approach_m(normal_force_n, material),
+            approach_m: shape.approach_for_scale(c_m),
             stiffness_n_m15: shape.stiffness_n_m15(material),
         })
     }
