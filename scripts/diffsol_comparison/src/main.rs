@@ -1,9 +1,11 @@
-//! The ML95-like bogie of `runtime::fixtures::vehicles` at 20 m/s, 1 mm off
-//! centre, online contact, flange `auto`, integrated over `span_s()` by
+//! A shipped vehicle of `runtime::fixtures::vehicles` (the ML95-like bogie
+//! by default) on its straight at 20 m/s, 1 mm off centre, online contact,
+//! flange `auto` (arguments: `[bogie|car|wheelset] [span_s] [speed_m_s]
+//! [atol] [offset_m]`), integrated by
 //! - RK4 at 0.1 ms (the reference),
 //! - our Rosenbrock-W ROS34PW2 at its defaults (atol 5e-6),
 //! - diffsol's BDF and ESDIRK34 at the same tolerances (rtol 1e-9, atol
-//!   5e-6), the right-hand side's Jacobian–vector product by a forward
+//!   5e-6 or the argument), the right-hand side's Jacobian–vector product by a forward
 //!   difference (the same increment as ours), the accept protocol kept:
 //!   after each diffsol step the accepted state is evaluated and committed
 //!   (`OdeSystem::accept`).
