@@ -9,7 +9,7 @@
 //!   difference (the same increment as ours), the accept protocol kept:
 //!   after each diffsol step the accepted state is evaluated and committed
 //!   (`OdeSystem::accept`).
-//! Prints the CPU time, the right-hand sides and the largest lateral
+//! Prints the wall time of the integration, the right-hand sides and the largest lateral
 //! displacement difference against the reference at the output times.
 
 use std::cell::RefCell;
