@@ -78,6 +78,14 @@ fn laterals(system: &mut VehicleSystem<'_>, t: f64, y: &[f64]) -> Vec<f64> {
         .collect()
 }
 
+/// [`laterals`] at every sampled (t, y).
+fn sampled_laterals(system: &mut VehicleSystem<'_>, samples: &[(f64, Vec<f64>)]) -> Vec<Vec<f64>> {
+    samples
+        .iter()
+        .map(|(t, y)| laterals(system, *t, y))
+        .collect()
+}
+
 fn ours(method: Method, name: &str, reference: Option<&[Vec<f64>]>) -> Vec<Vec<f64>> {
     let which = vehicle_choice();
     let (vehicle, track) = which.build().expect("profiles");
@@ -101,10 +109,7 @@ fn ours(method: Method, name: &str, reference: Option<&[Vec<f64>]>) -> Vec<Vec<f
     .expect("integrates");
     let cpu = start.elapsed().as_secs_f64();
     let evaluations = system.counters();
-    let lat: Vec<Vec<f64>> = out
-        .iter()
-        .map(|(t, y)| laterals(&mut system, *t, y))
-        .collect();
+    let lat = sampled_laterals(&mut system, &out);
     report(
         name,
         cpu,
@@ -249,10 +254,7 @@ fn with_diffsol(which: Which, reference: &[Vec<f64>]) {
     let cpu = start.elapsed().as_secs_f64();
     let calls = *rhs_calls.borrow();
     let mut s = system.into_inner();
-    let lat: Vec<Vec<f64>> = outputs
-        .iter()
-        .map(|(t, y)| laterals(&mut s, *t, y))
-        .collect();
+    let lat = sampled_laterals(&mut s, &outputs);
     report(
         name,
         cpu,
