@@ -3,7 +3,7 @@
 //! flange `auto` (arguments: `[bogie|car|wheelset] [span_s] [speed_m_s]
 //! [atol] [offset_m]`), integrated by
 //! - RK4 at 0.1 ms (the reference),
-//! - our Rosenbrock-W ROS34PW2 at its defaults (atol 5e-6),
+//! - our Rosenbrock-W ROS34PW2 at its defaults (atol 5e-6 or the argument),
 //! - diffsol's BDF and ESDIRK34 at the same tolerances (rtol 1e-9, atol
 //!   5e-6 or the argument), the right-hand side's Jacobian–vector product by a forward
 //!   difference (the same increment as ours), the accept protocol kept:
@@ -107,12 +107,12 @@ fn ours(method: Method, name: &str, reference: Option<&[Vec<f64>]>) -> Vec<Vec<f
         },
     )
     .expect("integrates");
-    let cpu = start.elapsed().as_secs_f64();
+    let wall_s = start.elapsed().as_secs_f64();
     let evaluations = system.counters();
     let lat = sampled_laterals(&mut system, &out);
     report(
         name,
-        cpu,
+        wall_s,
         &format!("{stats:?} {evaluations:?}"),
         &lat,
         reference,
@@ -120,7 +120,7 @@ fn ours(method: Method, name: &str, reference: Option<&[Vec<f64>]>) -> Vec<Vec<f
     lat
 }
 
-fn report(name: &str, cpu_s: f64, counts: &str, lat: &[Vec<f64>], reference: Option<&[Vec<f64>]>) {
+fn report(name: &str, wall_s: f64, counts: &str, lat: &[Vec<f64>], reference: Option<&[Vec<f64>]>) {
     let err = reference.map(|r| {
         r.iter()
             .zip(lat)
@@ -128,7 +128,7 @@ fn report(name: &str, cpu_s: f64, counts: &str, lat: &[Vec<f64>], reference: Opt
             .fold(0.0_f64, f64::max)
     });
     println!(
-        "{name}: {cpu_s:.3} s wall, lateral error {} µm, {} samples\n    {counts}",
+        "{name}: {wall_s:.3} s wall, lateral error {} µm, {} samples\n    {counts}",
         err.map_or("-".into(), |e| format!("{:.3}", e * 1e6)),
         lat.len()
     );
@@ -251,13 +251,13 @@ fn with_diffsol(which: Which, reference: &[Vec<f64>]) {
         Which::Bdf => run!(problem.bdf::<NalgebraLU<f64>>().expect("bdf")),
         Which::Esdirk34 => run!(problem.esdirk34::<NalgebraLU<f64>>().expect("esdirk34")),
     };
-    let cpu = start.elapsed().as_secs_f64();
+    let wall_s = start.elapsed().as_secs_f64();
     let calls = *rhs_calls.borrow();
     let mut s = system.into_inner();
     let lat = sampled_laterals(&mut s, &outputs);
     report(
         name,
-        cpu,
+        wall_s,
         &format!(
             "{steps} steps, {calls} right-hand sides (+{steps} accepted-state evaluations), {jacobians}"
         ),

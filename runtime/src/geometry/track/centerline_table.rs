@@ -257,11 +257,17 @@ impl CenterlineTable {
     #[inline]
     pub fn rail_l(&self, side: Side, s_m: f64) -> Result<f64, TrackError> {
         let (i, f) = self.locate(s_m)?;
-        Ok(lerp(
+        Ok(self.rail_l_in(side, i, f))
+    }
+
+    /// Arc length of rail `side` at fraction `f` of interval `i` (m).
+    #[inline]
+    fn rail_l_in(&self, side: Side, i: usize, f: f64) -> f64 {
+        lerp(
             f,
             self.rows[i].rail_l_m(side),
             self.rows[i + 1].rail_l_m(side),
-        ))
+        )
     }
 
     /// [`Self::rail_l`] from the interval `hint` (a patch followed from
@@ -277,11 +283,7 @@ impl CenterlineTable {
     ) -> Result<f64, TrackError> {
         self.check_range(s_m)?;
         let (i, f) = self.grid.locate_near(s_m, hint, |k| self.rows[k].s_m);
-        Ok(lerp(
-            f,
-            self.rows[i].rail_l_m(side),
-            self.rows[i + 1].rail_l_m(side),
-        ))
+        Ok(self.rail_l_in(side, i, f))
     }
 
     /// The frame of [`Self::at`] and the arc lengths of [`Self::rail_l`]
@@ -290,12 +292,11 @@ impl CenterlineTable {
     #[inline]
     pub fn frame_and_rail_l(&self, s_m: f64) -> Result<(Frame, [f64; 2]), TrackError> {
         let (i, f) = self.locate(s_m)?;
-        let (r0, r1) = (&self.rows[i], &self.rows[i + 1]);
         Ok((
             self.frame(i, f),
             [
-                lerp(f, r0.rail_l_m(Side::Left), r1.rail_l_m(Side::Left)),
-                lerp(f, r0.rail_l_m(Side::Right), r1.rail_l_m(Side::Right)),
+                self.rail_l_in(Side::Left, i, f),
+                self.rail_l_in(Side::Right, i, f),
             ],
         ))
     }
